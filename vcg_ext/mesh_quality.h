@@ -5,11 +5,36 @@
 // a sorted edge table, so non-manifold and open inputs are measured too. All geometry is
 // evaluated in double precision, so MeshLab's float CMeshO and the CLI's double mesh give the
 // same figures for the same file.
+//
+// Conventions (the figures depend on them, so they are stated once here):
+//  - Deleted vertices and faces are skipped. A face with a repeated vertex index (or a null /
+//    out-of-range vertex reference) is "index-degenerate": it is counted in `faces` and
+//    `degenerateFaces` but takes no part in the topology (edges, Euler, components, boundary,
+//    manifoldness), because it is not a 2-simplex. Every other face is a "proper" face.
+//  - A face is degenerate when it is index-degenerate, has a non-finite corner, or its area is
+//    <= degenerateAreaEpsilon * (mean edge length)^2. Degenerate faces count as angles
+//    {0, 0, 180}, Q = 0, AR = +inf and are left out of area, volume and self-intersections.
+//  - Components are connected through shared edges: faces touching only at a vertex belong to
+//    different components (that vertex is then reported as non-manifold).
+//  - A non-manifold vertex is one whose incident faces form more than one fan, fans being joined
+//    through the manifold (two-face) edges at the vertex. As in vcglib's
+//    Clean::CountNonManifoldVertexFF, vertices on a non-manifold edge are not counted again as
+//    non-manifold vertices: the edge already reports the defect.
+//  - Self-intersections treat triangles as closed sets: faces that merely touch (e.g. at two
+//    distinct vertices with the same position) intersect, as in vcglib's Clean::SelfIntersections.
 #pragma once
 
+#include <vcg/complex/complex.h>
+
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 #include <map>
+#include <numeric>
+#include <utility>
 #include <vector>
 
 namespace molremesh {
@@ -29,7 +54,9 @@ struct ComponentInfo {
   bool manifold = true; ///< no non-manifold edge or vertex in the component
   bool closed = false;  ///< manifold and no boundary edge
   int euler = 0;        ///< V - E + F of the component
-  int genus = -1;       ///< (2 - euler - boundary loops) / 2; -1 when not manifold
+  int genus = -1;       ///< (2 - euler - boundary loops) / 2; -1 when not manifold (or not orientable:
+                        ///< an odd 2 - euler - loops)
+  std::size_t boundaryLoops = 0; ///< closed boundary polylines of the component
 };
 
 /// Every figure the quality report prints. Angles are in degrees, percentages in [0, 100].
@@ -40,13 +67,14 @@ struct QualityReport {
   std::size_t unreferencedVertices = 0; ///< vertices used by no face
   std::size_t nonFiniteVertices = 0;    ///< vertices with a NaN or infinite coordinate
   std::size_t faces = 0;                ///< live faces
-  std::size_t edges = 0;                ///< distinct undirected edges
+  std::size_t edges = 0;                ///< distinct undirected edges (of proper faces)
 
   // Triangle shape (degenerate faces included: they count as angle 0/180, Q = 0, AR = inf)
   double qMin = 0, qAvg = 0;                   ///< Q = (6/sqrt 3) A / (p h); 1 for equilateral
   double angleMin = 0, meanMinAngle = 0;       ///< smallest angle; mean of per-face minimal angles
   double angleMax = 0;                         ///< largest angle
   double aspectRatioMax = 0, aspectRatioMean = 0; ///< AR = abc / (8 (s-a)(s-b)(s-c)); 1 for equilateral
+  double aspectRatioMeanNonDegenerate = 0;     ///< mean AR over the non-degenerate faces only (finite)
   std::size_t smallAngleFaces = 0;             ///< faces with an angle < params.smallAngle
   std::size_t obtuseFaces = 0;                 ///< faces with max angle >= params.obtuseAngle
   std::size_t largeAngleFaces = 0;             ///< faces with an angle > params.largeAngle
@@ -61,6 +89,7 @@ struct QualityReport {
   // Geometry
   double area = 0;   ///< total surface area
   double volume = 0; ///< signed enclosed volume (divergence theorem); meaningful when closed
+  double meanEdgeLength = 0; ///< mean length of the distinct edges with finite end points
 
   // Topology and validity
   int euler = 0;                      ///< V - E + F over referenced vertices
@@ -73,6 +102,8 @@ struct QualityReport {
   std::size_t nonManifoldVertices = 0;///< vertices whose face fan is not one edge-connected fan
   std::size_t degenerateFaces = 0;    ///< repeated vertex index or (near) zero area
   std::size_t selfIntersectingPairs = 0; ///< pairs of faces sharing no vertex that intersect
+  std::size_t adjacentOverlapPairs = 0;  ///< pairs sharing exactly one vertex that meet elsewhere too
+  std::size_t selfIntersectingFaces = 0; ///< faces in at least one of the two kinds of pairs above
   bool selfIntersectionsComputed = false;
 
   bool isTwoManifold() const { return nonManifoldEdges == 0 && nonManifoldVertices == 0; }
@@ -92,7 +123,8 @@ public:
   /// Measures m. m is not modified; deleted elements are skipped.
   static QualityReport Compute(const MeshType& m, const Params& params = Params());
 
-  /// Angles of face f (double precision).
+  /// Angles of face f (double precision). Without the mesh there is no mean edge length, so a
+  /// face is degenerate here when its area is <= Params().degenerateAreaEpsilon * (longest edge)^2.
   static TriangleAngles FaceAngles(const typename MeshType::FaceType& f);
 
   /// Valence (number of distinct incident edges) of every vertex, indexed like m.vert.
@@ -101,5 +133,717 @@ public:
   /// Per vertex: true when it lies on a boundary or a non-manifold edge, indexed like m.vert.
   static std::vector<bool> VertexOnBorder(const MeshType& m);
 };
+
+// ------------------------------------------------------------------------------------------------
+// Implementation
+// ------------------------------------------------------------------------------------------------
+
+inline double TriangleAngles::min() const { return std::min({degrees[0], degrees[1], degrees[2]}); }
+inline double TriangleAngles::max() const { return std::max({degrees[0], degrees[1], degrees[2]}); }
+
+namespace quality_detail {
+
+using Point = vcg::Point3d;
+using Index = std::uint32_t;
+constexpr Index kNoIndex = std::numeric_limits<Index>::max();
+constexpr double kPi = 3.14159265358979323846;
+
+inline bool IsFinite(const Point& p) {
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+
+/// Union-find with path halving; the smaller index becomes the root so results are independent
+/// of the union order (the reports must be deterministic).
+class UnionFind {
+public:
+  explicit UnionFind(std::size_t n = 0) : parent_(n) { std::iota(parent_.begin(), parent_.end(), Index(0)); }
+  Index Find(Index x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];
+      x = parent_[x];
+    }
+    return x;
+  }
+  void Unite(Index a, Index b) {
+    a = Find(a);
+    b = Find(b);
+    if (a == b) return;
+    if (a < b) parent_[b] = a;
+    else parent_[a] = b;
+  }
+
+private:
+  std::vector<Index> parent_;
+};
+
+// --- Triangle shape ------------------------------------------------------------------------------
+
+struct TriangleShape {
+  bool degenerate = true;
+  double area = 0;
+  double q = 0;
+  double aspectRatio = std::numeric_limits<double>::infinity();
+  std::array<double, 3> angles{0.0, 0.0, 180.0};
+};
+
+/// Shape of the triangle (p0, p1, p2); degenerate when the area is <= degenerateArea or a corner
+/// is not finite. The area is returned even for degenerate (finite) triangles.
+inline TriangleShape ShapeOf(const Point& p0, const Point& p1, const Point& p2, double degenerateArea) {
+  TriangleShape s;
+  if (!IsFinite(p0) || !IsFinite(p1) || !IsFinite(p2)) return s;
+  const std::array<Point, 3> p{p0, p1, p2};
+  std::array<double, 3> len{};  // len[i] = edge opposite corner i
+  for (int i = 0; i < 3; ++i) len[i] = (p[(i + 2) % 3] - p[(i + 1) % 3]).Norm();
+  s.area = 0.5 * ((p1 - p0) ^ (p2 - p0)).Norm();
+  if (!(s.area > degenerateArea) || !std::isfinite(s.area)) return s;
+
+  s.degenerate = false;
+  const double halfPerimeter = 0.5 * (len[0] + len[1] + len[2]);
+  const double longest = std::max({len[0], len[1], len[2]});
+  s.q = (6.0 / std::sqrt(3.0)) * s.area / (halfPerimeter * longest);
+  // (s-a)(s-b)(s-c) = A^2 / s (Heron): avoids the cancellation of s-a on needle triangles.
+  s.aspectRatio = len[0] * len[1] * len[2] * halfPerimeter / (8.0 * s.area * s.area);
+  for (int i = 0; i < 3; ++i) {
+    // atan2(|u x v|, u.v) stays accurate near 0 and 180 degrees, where acos loses digits.
+    const Point u = p[(i + 1) % 3] - p[i];
+    const Point v = p[(i + 2) % 3] - p[i];
+    s.angles[i] = std::atan2((u ^ v).Norm(), u * v) * (180.0 / kPi);
+  }
+  return s;
+}
+
+// --- Triangle / triangle intersection -------------------------------------------------------------
+//
+// Both tests reduce to "closed segment meets closed triangle": two triangles meet iff an edge of
+// one meets the other (the intersection is convex and its extreme points lie on edges). Plane
+// sides are computed as signed distances snapped to 0 within `tol`, so that exactly coplanar
+// inputs (flat patches) take the 2D branch instead of a numerically meaningless line crossing.
+
+/// Triangle with its plane and the axis dropped to project it to 2D.
+struct PlanarTriangle {
+  std::array<Point, 3> p;
+  Point unitNormal;
+  int axisU = 0, axisV = 1; ///< coordinates kept by the 2D projection
+};
+
+inline PlanarTriangle MakePlanarTriangle(const Point& a, const Point& b, const Point& c) {
+  PlanarTriangle t;
+  t.p = {a, b, c};
+  const Point n = (b - a) ^ (c - a);
+  const double len = n.Norm();
+  t.unitNormal = len > 0 ? n / len : Point(0, 0, 0);
+  int drop = 0;
+  if (std::fabs(n[1]) > std::fabs(n[drop])) drop = 1;
+  if (std::fabs(n[2]) > std::fabs(n[drop])) drop = 2;
+  t.axisU = (drop + 1) % 3;
+  t.axisV = (drop + 2) % 3;
+  return t;
+}
+
+inline double Orient2D(const Point& a, const Point& b, const Point& c, int u, int v) {
+  return (b[u] - a[u]) * (c[v] - a[v]) - (b[v] - a[v]) * (c[u] - a[u]);
+}
+
+/// Closed point-in-triangle test in the triangle's 2D projection.
+inline bool PointInTriangle2D(const PlanarTriangle& t, const Point& x) {
+  const double d0 = Orient2D(t.p[0], t.p[1], x, t.axisU, t.axisV);
+  const double d1 = Orient2D(t.p[1], t.p[2], x, t.axisU, t.axisV);
+  const double d2 = Orient2D(t.p[2], t.p[0], x, t.axisU, t.axisV);
+  return (d0 >= 0 && d1 >= 0 && d2 >= 0) || (d0 <= 0 && d1 <= 0 && d2 <= 0);
+}
+
+/// Closed segment/segment test in 2D (coordinates u, v).
+inline bool SegmentsMeet2D(const Point& p, const Point& q, const Point& a, const Point& b, int u, int v) {
+  const double o1 = Orient2D(p, q, a, u, v), o2 = Orient2D(p, q, b, u, v);
+  const double o3 = Orient2D(a, b, p, u, v), o4 = Orient2D(a, b, q, u, v);
+  if ((o1 > 0 && o2 > 0) || (o1 < 0 && o2 < 0)) return false;
+  if ((o3 > 0 && o4 > 0) || (o3 < 0 && o4 < 0)) return false;
+  if ((o1 == 0 && o2 == 0) || (o3 == 0 && o4 == 0)) {
+    // Collinear: the segments meet iff their extents overlap on both axes.
+    for (int axis : {u, v})
+      if (std::max(p[axis], q[axis]) < std::min(a[axis], b[axis]) ||
+          std::max(a[axis], b[axis]) < std::min(p[axis], q[axis]))
+        return false;
+  }
+  return true;
+}
+
+/// Signed distance of x from the plane of t, snapped to 0 within tol.
+inline double PlaneDistance(const PlanarTriangle& t, const Point& x, double tol) {
+  const double d = t.unitNormal * (x - t.p[0]);
+  return std::fabs(d) <= tol ? 0.0 : d;
+}
+
+/// Closed segment pq against closed triangle t.
+inline bool SegmentMeetsTriangle(const Point& p, const Point& q, const PlanarTriangle& t, double tol) {
+  const double dp = PlaneDistance(t, p, tol), dq = PlaneDistance(t, q, tol);
+  if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0)) return false;
+  if (dp == 0 && dq == 0) {
+    if (PointInTriangle2D(t, p) || PointInTriangle2D(t, q)) return true;
+    for (int i = 0; i < 3; ++i)
+      if (SegmentsMeet2D(p, q, t.p[i], t.p[(i + 1) % 3], t.axisU, t.axisV)) return true;
+    return false;
+  }
+  // Exactly one crossing point of the plane; it is inside the segment by the sign test.
+  const Point x = p + (q - p) * (dp / (dp - dq));
+  return PointInTriangle2D(t, x);
+}
+
+/// True when every vertex of `other` is strictly on the same side of t's plane.
+inline bool StrictlyOnOneSide(const PlanarTriangle& t, const PlanarTriangle& other, double tol) {
+  const double d0 = PlaneDistance(t, other.p[0], tol);
+  const double d1 = PlaneDistance(t, other.p[1], tol);
+  const double d2 = PlaneDistance(t, other.p[2], tol);
+  return (d0 > 0 && d1 > 0 && d2 > 0) || (d0 < 0 && d1 < 0 && d2 < 0);
+}
+
+/// Closed triangle/triangle intersection (for faces sharing no vertex).
+inline bool TrianglesIntersect(const PlanarTriangle& a, const PlanarTriangle& b, double tol) {
+  if (StrictlyOnOneSide(a, b, tol) || StrictlyOnOneSide(b, a, tol)) return false;
+  for (int i = 0; i < 3; ++i) {
+    if (SegmentMeetsTriangle(b.p[i], b.p[(i + 1) % 3], a, tol)) return true;
+    if (SegmentMeetsTriangle(a.p[i], a.p[(i + 1) % 3], b, tol)) return true;
+  }
+  return false;
+}
+
+/// Triangles sharing exactly the corner a.p[ca] == b.p[cb]: true when they meet anywhere else.
+/// Their intersection is a convex set containing the shared corner; it holds another point iff
+/// the edge opposite the shared corner of one triangle meets the other (that edge does not
+/// contain the shared corner, so the trivial contact is never reported).
+inline bool SharedCornerOverlap(const PlanarTriangle& a, int ca, const PlanarTriangle& b, int cb, double tol) {
+  return SegmentMeetsTriangle(a.p[(ca + 1) % 3], a.p[(ca + 2) % 3], b, tol) ||
+         SegmentMeetsTriangle(b.p[(cb + 1) % 3], b.p[(cb + 2) % 3], a, tol);
+}
+
+// --- Topology ------------------------------------------------------------------------------------
+
+/// Edge table and incidence relations of the proper faces, in compressed-row form.
+struct Topology {
+  std::size_t vertexCount = 0;               ///< size of m.vert
+  std::vector<std::array<Index, 3>> faces;   ///< live faces, in m.face order (compact numbering)
+  std::vector<bool> proper;                  ///< three distinct valid vertex indices
+  std::vector<std::uint64_t> edgeKeys;       ///< (min << 32 | max), sorted, one per distinct edge
+  std::vector<Index> edgeFaceStart, edgeFaces; ///< faces of edge e: [start[e], start[e+1])
+  std::vector<Index> vertEdgeStart, vertEdges; ///< edges at vertex v
+  std::vector<Index> vertFaceStart, vertFaces; ///< proper faces at vertex v, ascending
+  std::vector<bool> onNonManifoldEdge;       ///< per vertex
+  std::vector<bool> onBorder;                ///< per vertex: boundary or non-manifold edge
+
+  Index EdgeV0(std::size_t e) const { return Index(edgeKeys[e] >> 32); }
+  Index EdgeV1(std::size_t e) const { return Index(edgeKeys[e] & 0xffffffffu); }
+  Index EdgeFaceCount(std::size_t e) const { return edgeFaceStart[e + 1] - edgeFaceStart[e]; }
+};
+
+/// Compressed rows from (row, value) pairs already sorted by row then value.
+inline void BuildRows(std::size_t rows, const std::vector<std::pair<Index, Index>>& pairs,
+                      std::vector<Index>& start, std::vector<Index>& values) {
+  start.assign(rows + 1, 0);
+  for (const auto& pr : pairs) ++start[pr.first + 1];
+  for (std::size_t r = 0; r < rows; ++r) start[r + 1] += start[r];
+  values.resize(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) values[i] = pairs[i].second;
+}
+
+/// Builds everything but `faces`/`proper`/`vertexCount`, which the caller fills.
+inline void BuildTopology(Topology& t) {
+  const std::size_t nv = t.vertexCount;
+  struct EdgeEntry {
+    std::uint64_t key;
+    Index face;
+    bool operator<(const EdgeEntry& o) const { return key != o.key ? key < o.key : face < o.face; }
+  };
+  std::vector<EdgeEntry> entries;
+  entries.reserve(t.faces.size() * 3);
+  for (std::size_t f = 0; f < t.faces.size(); ++f) {
+    if (!t.proper[f]) continue;
+    for (int i = 0; i < 3; ++i) {
+      const Index a = t.faces[f][i], b = t.faces[f][(i + 1) % 3];
+      entries.push_back({(std::uint64_t(std::min(a, b)) << 32) | std::max(a, b), Index(f)});
+    }
+  }
+  std::sort(entries.begin(), entries.end());
+
+  t.edgeKeys.clear();
+  t.edgeFaceStart.assign(1, 0);
+  t.edgeFaces.clear();
+  t.edgeFaces.reserve(entries.size());
+  for (std::size_t i = 0; i < entries.size(); ++i) {
+    if (i == 0 || entries[i].key != entries[i - 1].key) {
+      if (i != 0) t.edgeFaceStart.push_back(Index(t.edgeFaces.size()));
+      t.edgeKeys.push_back(entries[i].key);
+    }
+    t.edgeFaces.push_back(entries[i].face);
+  }
+  if (!entries.empty()) t.edgeFaceStart.push_back(Index(t.edgeFaces.size()));
+
+  std::vector<std::pair<Index, Index>> pairs;
+  pairs.reserve(t.edgeKeys.size() * 2);
+  for (std::size_t e = 0; e < t.edgeKeys.size(); ++e) {
+    pairs.emplace_back(t.EdgeV0(e), Index(e));
+    pairs.emplace_back(t.EdgeV1(e), Index(e));
+  }
+  std::sort(pairs.begin(), pairs.end());
+  BuildRows(nv, pairs, t.vertEdgeStart, t.vertEdges);
+
+  pairs.clear();
+  for (std::size_t f = 0; f < t.faces.size(); ++f)
+    if (t.proper[f])
+      for (Index v : t.faces[f]) pairs.emplace_back(v, Index(f));
+  std::sort(pairs.begin(), pairs.end());
+  BuildRows(nv, pairs, t.vertFaceStart, t.vertFaces);
+
+  t.onNonManifoldEdge.assign(nv, false);
+  t.onBorder.assign(nv, false);
+  for (std::size_t e = 0; e < t.edgeKeys.size(); ++e) {
+    const Index count = t.EdgeFaceCount(e);
+    if (count == 2) continue;
+    for (Index v : {t.EdgeV0(e), t.EdgeV1(e)}) {
+      t.onBorder[v] = true;
+      if (count > 2) t.onNonManifoldEdge[v] = true;
+    }
+  }
+}
+
+/// Reads the live faces of m into t and builds the topology.
+template <class MeshType>
+Topology ReadTopology(const MeshType& m) {
+  Topology t;
+  t.vertexCount = m.vert.size();
+  t.faces.reserve(m.face.size());
+  t.proper.reserve(m.face.size());
+  const auto* vertBegin = m.vert.empty() ? nullptr : &m.vert[0];
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    std::array<Index, 3> idx{kNoIndex, kNoIndex, kNoIndex};
+    for (int i = 0; i < 3; ++i) {
+      const auto* vp = f.cV(i);
+      if (vp == nullptr || vertBegin == nullptr) continue;
+      const std::ptrdiff_t k = vp - vertBegin;
+      if (k >= 0 && std::size_t(k) < m.vert.size()) idx[i] = Index(k);
+    }
+    const bool valid = idx[0] != kNoIndex && idx[1] != kNoIndex && idx[2] != kNoIndex;
+    t.faces.push_back(idx);
+    t.proper.push_back(valid && idx[0] != idx[1] && idx[1] != idx[2] && idx[2] != idx[0]);
+  }
+  BuildTopology(t);
+  return t;
+}
+
+// --- Self-intersections ----------------------------------------------------------------------------
+
+/// Closed box overlap (vcg::Box3::Collide is strict, which misses flat axis-aligned faces).
+inline bool BoxesTouch(const vcg::Box3d& a, const vcg::Box3d& b) {
+  for (int k = 0; k < 3; ++k)
+    if (a.max[k] < b.min[k] || b.max[k] < a.min[k]) return false;
+  return true;
+}
+
+struct IntersectionCounts {
+  std::size_t disjointPairs = 0; ///< pairs sharing no vertex that intersect
+  std::size_t adjacentPairs = 0; ///< pairs sharing one vertex that also meet elsewhere
+  std::size_t faces = 0;         ///< faces in at least one such pair
+};
+
+/// Counts intersecting pairs among the given (non-degenerate, finite) triangles with a uniform
+/// grid over their bounding boxes. Each candidate pair is tested once: in the grid cell holding
+/// the lowest corner of the overlap of the two cell ranges, so no pair set is needed.
+inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
+                                                 const std::vector<Point>& points, double meanEdge) {
+  IntersectionCounts result;
+  const std::size_t n = tris.size();
+  if (n < 2) return result;
+
+  std::vector<vcg::Box3d> boxes(n);
+  vcg::Box3d all;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (Index v : tris[i]) boxes[i].Add(points[v]);
+    all.Add(boxes[i]);
+  }
+  const Point extent = all.Dim();
+  const double maxAbs = std::max({std::fabs(all.min[0]), std::fabs(all.min[1]), std::fabs(all.min[2]),
+                                  std::fabs(all.max[0]), std::fabs(all.max[1]), std::fabs(all.max[2])});
+  // Snap distance for the plane-side tests: far above the rounding error of coordinates of that
+  // magnitude, far below any feature of a real mesh.
+  const double tol = 1e-12 * (maxAbs + meanEdge);
+
+  // Cell size about two mean edges, so a face spans few cells and a cell holds few faces; grown
+  // when the grid would be too large (a few huge faces, or a very sparse point set).
+  double cell = 2.0 * meanEdge;
+  const double maxExtent = std::max({extent[0], extent[1], extent[2]});
+  if (!(cell > 0) || !std::isfinite(cell)) cell = maxExtent > 0 ? maxExtent : 1.0;
+  const std::uint64_t maxEntries = 64 * std::uint64_t(n) + (std::uint64_t(1) << 20);
+  std::array<std::uint64_t, 3> dims{};
+  std::vector<std::array<std::uint32_t, 6>> range(n); // lo x,y,z, hi x,y,z
+  for (;;) {
+    bool tooMany = false;
+    for (int a = 0; a < 3; ++a) {
+      const double cells = std::floor(extent[a] / cell) + 1.0;
+      if (cells > double(1 << 20)) tooMany = true;
+      dims[a] = tooMany ? 1 : std::uint64_t(cells);
+    }
+    std::uint64_t entries = 0;
+    if (!tooMany) {
+      for (std::size_t i = 0; i < n && entries <= maxEntries; ++i) {
+        std::uint64_t spanned = 1;
+        for (int a = 0; a < 3; ++a) {
+          auto toCell = [&](double x) {
+            const double c = std::floor((x - all.min[a]) / cell);
+            return std::uint32_t(std::clamp(c, 0.0, double(dims[a] - 1)));
+          };
+          range[i][a] = toCell(boxes[i].min[a]);
+          range[i][a + 3] = toCell(boxes[i].max[a]);
+          spanned *= range[i][a + 3] - range[i][a] + 1;
+        }
+        entries += spanned;
+      }
+    }
+    if (!tooMany && entries <= maxEntries) break;
+    cell *= 2.0;
+  }
+
+  // (cell id, face) pairs sorted by cell: the "hash" of the uniform grid.
+  std::vector<std::pair<std::uint64_t, Index>> cellFaces;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint64_t z = range[i][2]; z <= range[i][5]; ++z)
+      for (std::uint64_t y = range[i][1]; y <= range[i][4]; ++y)
+        for (std::uint64_t x = range[i][0]; x <= range[i][3]; ++x)
+          cellFaces.emplace_back((z * dims[1] + y) * dims[0] + x, Index(i));
+  std::sort(cellFaces.begin(), cellFaces.end());
+
+  std::vector<PlanarTriangle> planar(n);
+  for (std::size_t i = 0; i < n; ++i)
+    planar[i] = MakePlanarTriangle(points[tris[i][0]], points[tris[i][1]], points[tris[i][2]]);
+  std::vector<bool> involved(n, false);
+
+  for (std::size_t begin = 0; begin < cellFaces.size();) {
+    std::size_t end = begin;
+    while (end < cellFaces.size() && cellFaces[end].first == cellFaces[begin].first) ++end;
+    const std::uint64_t id = cellFaces[begin].first;
+    const std::array<std::uint64_t, 3> cellXYZ{id % dims[0], (id / dims[0]) % dims[1], id / (dims[0] * dims[1])};
+    for (std::size_t s = begin; s < end; ++s) {
+      const Index i = cellFaces[s].second;
+      for (std::size_t r = s + 1; r < end; ++r) {
+        const Index j = cellFaces[r].second;
+        bool canonical = true;
+        for (int a = 0; a < 3 && canonical; ++a)
+          canonical = std::max(range[i][a], range[j][a]) == cellXYZ[a];
+        if (!canonical || !BoxesTouch(boxes[i], boxes[j])) continue;
+        int shared = 0, ci = -1, cj = -1;
+        for (int u = 0; u < 3; ++u)
+          for (int w = 0; w < 3; ++w)
+            if (tris[i][u] == tris[j][w]) ++shared, ci = u, cj = w;
+        bool hit = false;
+        if (shared == 0 && TrianglesIntersect(planar[i], planar[j], tol)) {
+          ++result.disjointPairs;
+          hit = true;
+        } else if (shared == 1 && SharedCornerOverlap(planar[i], ci, planar[j], cj, tol)) {
+          ++result.adjacentPairs;
+          hit = true;
+        }
+        if (hit) involved[i] = involved[j] = true;
+      }
+    }
+    begin = end;
+  }
+  result.faces = std::size_t(std::count(involved.begin(), involved.end(), true));
+  return result;
+}
+
+} // namespace quality_detail
+
+template <class MeshType>
+TriangleAngles MeshQuality<MeshType>::FaceAngles(const typename MeshType::FaceType& f) {
+  using quality_detail::Point;
+  TriangleAngles result;
+  for (int i = 0; i < 3; ++i)
+    if (f.cV(i) == nullptr || f.cV(i) == f.cV((i + 1) % 3)) return result;
+  std::array<Point, 3> p;
+  for (int i = 0; i < 3; ++i) {
+    const auto& c = f.cV(i)->cP();
+    p[i] = Point(double(c[0]), double(c[1]), double(c[2]));
+  }
+  double longest = 0;
+  for (int i = 0; i < 3; ++i) longest = std::max(longest, (p[(i + 1) % 3] - p[i]).Norm());
+  const auto shape = quality_detail::ShapeOf(p[0], p[1], p[2], Params().degenerateAreaEpsilon * longest * longest);
+  result.degrees = shape.angles;
+  return result;
+}
+
+template <class MeshType>
+std::vector<int> MeshQuality<MeshType>::VertexValences(const MeshType& m) {
+  const quality_detail::Topology t = quality_detail::ReadTopology(m);
+  std::vector<int> valence(m.vert.size(), 0);
+  for (std::size_t v = 0; v < valence.size(); ++v)
+    valence[v] = int(t.vertEdgeStart[v + 1] - t.vertEdgeStart[v]);
+  return valence;
+}
+
+template <class MeshType>
+std::vector<bool> MeshQuality<MeshType>::VertexOnBorder(const MeshType& m) {
+  return quality_detail::ReadTopology(m).onBorder;
+}
+
+template <class MeshType>
+QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& params) {
+  using namespace quality_detail;
+  QualityReport r;
+  const Topology t = ReadTopology(m);
+  const std::size_t nv = m.vert.size();
+  const std::size_t nf = t.faces.size();
+  const std::size_t ne = t.edgeKeys.size();
+
+  // --- Vertices --------------------------------------------------------------------------------
+  std::vector<Point> points(nv);
+  std::vector<bool> live(nv, false), finite(nv, false), referenced(nv, false);
+  for (std::size_t v = 0; v < nv; ++v) {
+    const auto& c = m.vert[v].cP();
+    points[v] = Point(double(c[0]), double(c[1]), double(c[2]));
+    live[v] = !m.vert[v].IsD();
+    finite[v] = IsFinite(points[v]);
+    if (live[v]) {
+      ++r.vertices;
+      if (!finite[v]) ++r.nonFiniteVertices;
+    }
+  }
+  for (const auto& f : t.faces)
+    for (Index v : f)
+      if (v != kNoIndex) referenced[v] = true;
+  for (std::size_t v = 0; v < nv; ++v)
+    if (live[v] && referenced[v]) ++r.referencedVertices;
+  r.unreferencedVertices = r.vertices - r.referencedVertices;
+  r.faces = nf;
+  r.edges = ne;
+
+  // --- Edges: boundary / non-manifold counts, mean length ------------------------------------
+  double edgeLengthSum = 0;
+  std::size_t finiteEdges = 0;
+  for (std::size_t e = 0; e < ne; ++e) {
+    const Index count = t.EdgeFaceCount(e);
+    if (count == 1) ++r.boundaryEdges;
+    if (count > 2) ++r.nonManifoldEdges;
+    const Index a = t.EdgeV0(e), b = t.EdgeV1(e);
+    if (finite[a] && finite[b]) {
+      edgeLengthSum += (points[a] - points[b]).Norm();
+      ++finiteEdges;
+    }
+  }
+  r.meanEdgeLength = finiteEdges > 0 ? edgeLengthSum / double(finiteEdges) : 0.0;
+
+  // --- Vertex fans: non-manifold vertices and the pairing of boundary edges into loops ---------
+  // At a vertex whose edges are all manifold or boundary, the incident faces split into fans
+  // joined through two-face edges; an open fan has exactly two boundary edges, which are
+  // consecutive edges of one boundary loop. Boundary edges at vertices where this does not hold
+  // (non-manifold edges) are "broken" and their polylines are not counted as loops.
+  std::vector<bool> nonManifoldVertex(nv, false);
+  UnionFind boundaryLinks(ne);
+  std::vector<bool> brokenBoundary(ne, false);
+  {
+    std::vector<Index> localParent;
+    std::vector<std::pair<Index, Index>> fanBoundary; // (fan root, boundary edge)
+    for (std::size_t v = 0; v < nv; ++v) {
+      const Index fBegin = t.vertFaceStart[v], fEnd = t.vertFaceStart[v + 1];
+      if (fBegin == fEnd) continue;
+      const Index eBegin = t.vertEdgeStart[v], eEnd = t.vertEdgeStart[v + 1];
+      if (t.onNonManifoldEdge[v]) {
+        for (Index k = eBegin; k < eEnd; ++k)
+          if (t.EdgeFaceCount(t.vertEdges[k]) == 1) brokenBoundary[t.vertEdges[k]] = true;
+        continue;
+      }
+      const auto facesBegin = t.vertFaces.begin() + fBegin, facesEnd = t.vertFaces.begin() + fEnd;
+      auto local = [&](Index f) { return Index(std::lower_bound(facesBegin, facesEnd, f) - facesBegin); };
+      localParent.resize(fEnd - fBegin);
+      std::iota(localParent.begin(), localParent.end(), Index(0));
+      auto find = [&](Index x) {
+        while (localParent[x] != x) x = localParent[x] = localParent[localParent[x]];
+        return x;
+      };
+      fanBoundary.clear();
+      for (Index k = eBegin; k < eEnd; ++k) {
+        const Index e = t.vertEdges[k];
+        const Index* ef = &t.edgeFaces[t.edgeFaceStart[e]];
+        if (t.EdgeFaceCount(e) == 2) {
+          const Index a = find(local(ef[0])), b = find(local(ef[1]));
+          if (a != b) localParent[std::max(a, b)] = std::min(a, b);
+        }
+      }
+      std::size_t fans = 0;
+      for (Index i = 0; i < localParent.size(); ++i)
+        if (find(i) == i) ++fans;
+      if (fans > 1) nonManifoldVertex[v] = true;
+      for (Index k = eBegin; k < eEnd; ++k) {
+        const Index e = t.vertEdges[k];
+        if (t.EdgeFaceCount(e) == 1) fanBoundary.emplace_back(find(local(t.edgeFaces[t.edgeFaceStart[e]])), e);
+      }
+      std::sort(fanBoundary.begin(), fanBoundary.end());
+      for (std::size_t i = 0; i < fanBoundary.size();) {
+        std::size_t j = i;
+        while (j < fanBoundary.size() && fanBoundary[j].first == fanBoundary[i].first) ++j;
+        if (j - i == 2) boundaryLinks.Unite(fanBoundary[i].second, fanBoundary[i + 1].second);
+        else
+          for (std::size_t k = i; k < j; ++k) brokenBoundary[fanBoundary[k].second] = true;
+        i = j;
+      }
+    }
+  }
+  for (std::size_t v = 0; v < nv; ++v)
+    if (nonManifoldVertex[v]) ++r.nonManifoldVertices;
+
+  // --- Components through shared edges -------------------------------------------------------
+  UnionFind faceSets(nf);
+  for (std::size_t e = 0; e < ne; ++e)
+    for (Index k = t.edgeFaceStart[e] + 1; k < t.edgeFaceStart[e + 1]; ++k)
+      faceSets.Unite(t.edgeFaces[t.edgeFaceStart[e]], t.edgeFaces[k]);
+  // Numbered by their lowest face, which is also the union-find root.
+  std::vector<Index> componentOf(nf, kNoIndex);
+  std::vector<ComponentInfo> comps;
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (!t.proper[f]) continue;
+    const Index root = faceSets.Find(Index(f));
+    if (root == f) {
+      componentOf[f] = Index(comps.size());
+      comps.emplace_back();
+    } else {
+      componentOf[f] = componentOf[root];
+    }
+    ++comps[componentOf[f]].faces;
+  }
+  std::vector<long long> compVertices(comps.size(), 0), compEdges(comps.size(), 0);
+  for (std::size_t e = 0; e < ne; ++e) {
+    const Index c = componentOf[t.edgeFaces[t.edgeFaceStart[e]]];
+    ++compEdges[c];
+    if (t.EdgeFaceCount(e) == 1) ++comps[c].boundaryEdges;
+    if (t.EdgeFaceCount(e) > 2) comps[c].manifold = false;
+  }
+  std::size_t topologyVertices = 0;
+  {
+    std::vector<Index> vertexComps;
+    for (std::size_t v = 0; v < nv; ++v) {
+      const Index fBegin = t.vertFaceStart[v], fEnd = t.vertFaceStart[v + 1];
+      if (fBegin == fEnd) continue;
+      ++topologyVertices;
+      vertexComps.clear();
+      for (Index k = fBegin; k < fEnd; ++k) vertexComps.push_back(componentOf[t.vertFaces[k]]);
+      std::sort(vertexComps.begin(), vertexComps.end());
+      vertexComps.erase(std::unique(vertexComps.begin(), vertexComps.end()), vertexComps.end());
+      for (Index c : vertexComps) {
+        ++compVertices[c];
+        if (nonManifoldVertex[v]) comps[c].manifold = false;
+      }
+    }
+  }
+  // Boundary loops: classes of linked boundary edges without a broken edge.
+  {
+    std::vector<bool> classBroken(ne, false);
+    for (std::size_t e = 0; e < ne; ++e)
+      if (t.EdgeFaceCount(e) == 1 && brokenBoundary[e]) classBroken[boundaryLinks.Find(Index(e))] = true;
+    for (std::size_t e = 0; e < ne; ++e)
+      if (t.EdgeFaceCount(e) == 1 && boundaryLinks.Find(Index(e)) == e && !classBroken[e]) {
+        ++r.boundaryLoops;
+        ++comps[componentOf[t.edgeFaces[t.edgeFaceStart[e]]]].boundaryLoops;
+      }
+  }
+  r.euler = int(topologyVertices) - int(ne) + int(std::count(t.proper.begin(), t.proper.end(), true));
+  r.genus = 0;
+  for (std::size_t c = 0; c < comps.size(); ++c) {
+    ComponentInfo& info = comps[c];
+    info.euler = int(compVertices[c] - compEdges[c] + (long long)info.faces);
+    info.closed = info.manifold && info.boundaryEdges == 0;
+    const int twiceGenus = 2 - info.euler - int(info.boundaryLoops);
+    info.genus = (info.manifold && twiceGenus >= 0 && twiceGenus % 2 == 0) ? twiceGenus / 2 : -1;
+    if (info.genus < 0) r.genus = -1;
+    else if (r.genus >= 0) r.genus += info.genus;
+  }
+  std::stable_sort(comps.begin(), comps.end(),
+                   [](const ComponentInfo& a, const ComponentInfo& b) { return a.faces > b.faces; });
+  r.components = comps.size();
+  r.componentInfo = std::move(comps);
+
+  // --- Valence of interior vertices ----------------------------------------------------------
+  for (std::size_t v = 0; v < nv; ++v) {
+    const int valence = int(t.vertEdgeStart[v + 1] - t.vertEdgeStart[v]);
+    if (!live[v] || valence == 0 || t.onBorder[v]) continue;
+    ++r.interiorVertices;
+    ++r.valenceHistogram[valence];
+    if (valence >= 5 && valence <= 7) ++r.regularVertices;
+  }
+  r.v567Percent = r.interiorVertices > 0 ? 100.0 * double(r.regularVertices) / double(r.interiorVertices) : 100.0;
+
+  // --- Triangle shape, area, volume -----------------------------------------------------------
+  Point centroid(0, 0, 0);
+  std::size_t centroidCount = 0;
+  for (std::size_t v = 0; v < nv; ++v)
+    if (live[v] && referenced[v] && finite[v]) {
+      centroid += points[v];
+      ++centroidCount;
+    }
+  if (centroidCount > 0) centroid /= double(centroidCount);
+
+  const double degenerateArea = params.degenerateAreaEpsilon * r.meanEdgeLength * r.meanEdgeLength;
+  const double infinity = std::numeric_limits<double>::infinity();
+  double qSum = 0, minAngleSum = 0, arSum = 0, arSumNonDegenerate = 0, volumeSum = 0;
+  r.qMin = infinity;
+  r.angleMin = infinity;
+  r.angleMax = -infinity;
+  r.aspectRatioMax = 0;
+  std::vector<std::array<Index, 3>> candidates; // non-degenerate faces, for self-intersections
+  candidates.reserve(nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    TriangleShape shape;
+    if (t.proper[f]) {
+      const auto& tri = t.faces[f];
+      shape = ShapeOf(points[tri[0]], points[tri[1]], points[tri[2]], degenerateArea);
+      if (finite[tri[0]] && finite[tri[1]] && finite[tri[2]]) {
+        r.area += shape.area;
+        volumeSum += (points[tri[0]] - centroid) * ((points[tri[1]] - centroid) ^ (points[tri[2]] - centroid));
+      }
+      if (!shape.degenerate) candidates.push_back(tri);
+    }
+    if (shape.degenerate) {
+      ++r.degenerateFaces;
+      shape.angles = {0.0, 0.0, 180.0};
+      shape.q = 0;
+      shape.aspectRatio = infinity;
+    } else {
+      arSumNonDegenerate += shape.aspectRatio;
+    }
+    const double minAngle = std::min({shape.angles[0], shape.angles[1], shape.angles[2]});
+    const double maxAngle = std::max({shape.angles[0], shape.angles[1], shape.angles[2]});
+    qSum += shape.q;
+    minAngleSum += minAngle;
+    arSum += shape.aspectRatio;
+    r.qMin = std::min(r.qMin, shape.q);
+    r.angleMin = std::min(r.angleMin, minAngle);
+    r.angleMax = std::max(r.angleMax, maxAngle);
+    r.aspectRatioMax = std::max(r.aspectRatioMax, shape.aspectRatio);
+    if (minAngle < params.smallAngle) ++r.smallAngleFaces;
+    if (maxAngle >= params.obtuseAngle) ++r.obtuseFaces;
+    if (maxAngle > params.largeAngle) ++r.largeAngleFaces;
+  }
+  r.volume = volumeSum / 6.0;
+  if (nf > 0) {
+    const double count = double(nf);
+    r.qAvg = qSum / count;
+    r.meanMinAngle = minAngleSum / count;
+    r.aspectRatioMean = arSum / count;
+    r.smallAnglePercent = 100.0 * double(r.smallAngleFaces) / count;
+    r.obtusePercent = 100.0 * double(r.obtuseFaces) / count;
+    r.largeAnglePercent = 100.0 * double(r.largeAngleFaces) / count;
+  } else {
+    r.qMin = r.angleMin = r.angleMax = 0;
+  }
+  const std::size_t nonDegenerate = nf - r.degenerateFaces;
+  r.aspectRatioMeanNonDegenerate = nonDegenerate > 0 ? arSumNonDegenerate / double(nonDegenerate) : 0.0;
+
+  // --- Self-intersections ----------------------------------------------------------------------
+  if (params.computeSelfIntersections) {
+    const IntersectionCounts counts = CountSelfIntersections(candidates, points, r.meanEdgeLength);
+    r.selfIntersectingPairs = counts.disjointPairs;
+    r.adjacentOverlapPairs = counts.adjacentPairs;
+    r.selfIntersectingFaces = counts.faces;
+    r.selfIntersectionsComputed = true;
+  }
+  return r;
+}
 
 } // namespace molremesh

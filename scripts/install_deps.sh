@@ -1,0 +1,33 @@
+#!/usr/bin/env bash
+# Installs every Debian package molremesh needs to build, test and benchmark (Debian bookworm).
+# Safe to run again: apt skips what is already there. Needs root (or sudo).
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config dpkg-dev ca-certificates
+  meshlab
+  qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev libglew-dev
+  libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev
+  libgtest-dev libbenchmark-dev
+  xvfb xauth
+  tetgen
+)
+
+sudo_cmd=()
+if [ "$(id -u)" -ne 0 ]; then
+  command -v sudo >/dev/null || { echo "install_deps: run as root or install sudo" >&2; exit 1; }
+  sudo_cmd=(sudo)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install_deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+echo "install_deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+"${sudo_cmd[@]}" apt-get update -q
+"${sudo_cmd[@]}" apt-get install -y -q --no-install-recommends "${missing[@]}"

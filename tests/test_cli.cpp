@@ -1,0 +1,97 @@
+// The command-line tool on good and bad input: clear one-line errors, non-zero exit, no crash.
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "test_helpers.h"
+
+using namespace molremesh::test;
+
+namespace {
+const std::string kCli = MOLREMESH_CLI_PATH;
+
+CommandResult Cli(const std::string& args) { return Run(Quote(kCli) + " " + args); }
+
+// A bad input must end with exit status 2 (not a signal, not success) and one error line
+// naming the problem.
+void ExpectInputError(const CommandResult& r, const std::string& expectedText) {
+  EXPECT_EQ(r.exitCode, 2) << "stderr: " << r.err;
+  EXPECT_NE(r.err.find("molremesh: error:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(expectedText), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+} // namespace
+
+TEST(Cli, MissingFile) { ExpectInputError(Cli("report /nonexistent/x.ply"), "no such file"); }
+TEST(Cli, EmptyFile) { ExpectInputError(Cli("report " + Quote(Fixture("empty.ply"))), "the file is empty"); }
+TEST(Cli, NotAMesh) { ExpectInputError(Cli("report " + Quote(Fixture("not_a_mesh.ply"))), "cannot read"); }
+TEST(Cli, UnknownExtension) { ExpectInputError(Cli("report " + Quote(Fixture("../CMakeLists.txt"))), "unknown format"); }
+TEST(Cli, PointCloud) { ExpectInputError(Cli("report " + Quote(Fixture("point_cloud.ply"))), "point cloud"); }
+TEST(Cli, NanCoordinates) { ExpectInputError(Cli("report " + Quote(Fixture("nan_vertex.ply"))), "NaN"); }
+
+TEST(Cli, UsageErrorExitsNonZero) {
+  const CommandResult r = Cli("report");
+  EXPECT_NE(r.exitCode, 0);
+  EXPECT_LT(r.exitCode, 128);
+}
+
+TEST(Cli, NonManifoldFanIsReportedNotRefused) {
+  const CommandResult r = Cli("report --json " + Quote(Fixture("nonmanifold_fan.ply")));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["non_manifold_edges"], 1);
+  EXPECT_GE(j["non_manifold_vertices"].get<int>(), 1);
+  EXPECT_EQ(j["two_manifold"], false);
+  EXPECT_TRUE(j["genus"].is_null());
+}
+
+TEST(Cli, DegenerateFacesAreReportedNotRefused) {
+  const CommandResult r = Cli("report --json " + Quote(Fixture("degenerate_faces.ply")));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["degenerate_faces"], 2);
+  EXPECT_EQ(j["faces"], 3);
+}
+
+TEST(Cli, ReportTableOnRealMesh) {
+  const CommandResult r = Cli("report " + Quote(SharedMesh("bpti_1bpi_msms.ply")));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  for (const char* row : {"Qmin", "V567", "obtuse faces", "genus", "self-intersecting pairs", "valence histogram"})
+    EXPECT_NE(r.out.find(row), std::string::npos) << row;
+}
+
+TEST(Cli, ReportJsonOnRealMeshMatchesItsKnownDefects) {
+  // ubiquitin_1UBQ_edtsurf_mc.ply: per the data README, 36 boundary edges and 5 non-manifold vertices.
+  const CommandResult r = Cli("report --json " + Quote(SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply")));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["faces"], 11334);
+  EXPECT_EQ(j["boundary_edges"], 36);
+  EXPECT_EQ(j["non_manifold_vertices"], 5);
+}
+
+TEST(Cli, ColorWritesPlyAndCountsMatchReport) {
+  const auto dir = TempDir("cli_color");
+  const std::string out = (dir / "colored.ply").string();
+  const std::string in = SharedMesh("bpti_1bpi_msms.ply");
+  const CommandResult color = Cli("color " + Quote(in) + " " + Quote(out));
+  ASSERT_EQ(color.exitCode, 0) << color.err;
+  const CommandResult report = Cli("report --json --no-self-intersections " + Quote(in));
+  ASSERT_EQ(report.exitCode, 0) << report.err;
+  const auto j = nlohmann::json::parse(report.out);
+  EXPECT_NE(color.out.find("irregular vertices (red): " + std::to_string(j["irregular_vertices"].get<int>())),
+            std::string::npos)
+      << color.out;
+  EXPECT_NE(color.out.find("obtuse faces (red or magenta): " + std::to_string(j["obtuse_faces"].get<int>())),
+            std::string::npos)
+      << color.out;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, ColorRefusesBadInputAndWritesNothing) {
+  const auto dir = TempDir("cli_color_bad");
+  const std::string out = (dir / "colored.ply").string();
+  ExpectInputError(Cli("color " + Quote(Fixture("point_cloud.ply")) + " " + Quote(out)), "point cloud");
+  EXPECT_FALSE(std::filesystem::exists(out));
+  std::filesystem::remove_all(dir);
+}

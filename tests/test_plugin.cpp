@@ -1,0 +1,203 @@
+// The MeshLab plugin loaded in-process the way MeshLab loads it (QPluginLoader), with filters
+// applied to MeshDocument layers: refused inputs leave the layer bit-for-bit unchanged, and the
+// coloring agrees with the quality report computed by vcg_ext on the same data.
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QPluginLoader>
+
+#include <common/GLLogStream.h>
+#include <common/interfaces.h>
+#include <common/meshmodel.h>
+#include <wrap/io_trimesh/import_ply.h>
+
+#include <vcg_ext/bad_element_coloring.h>
+#include <vcg_ext/mesh_quality.h>
+
+#include "test_helpers.h"
+
+using namespace molremesh::test;
+
+namespace {
+
+MeshFilterInterface* LoadPlugin() {
+  static QPluginLoader loader(MOLREMESH_PLUGIN_PATH);
+  static MeshFilterInterface* plugin = qobject_cast<MeshFilterInterface*>(loader.instance());
+  if (plugin == nullptr) ADD_FAILURE() << "cannot load plugin: " << loader.errorString().toStdString();
+  return plugin;
+}
+
+QAction* FindFilter(MeshFilterInterface* plugin, const QString& name) {
+  for (QAction* a : plugin->actions())
+    if (a->text() == name) return a;
+  ADD_FAILURE() << "no filter named " << name.toStdString();
+  return nullptr;
+}
+
+/// Everything a filter could change on a layer.
+struct LayerSnapshot {
+  int vn = 0, fn = 0, dataMask = 0;
+  std::vector<float> coords;
+  std::vector<int> faceIndices, vertexFlags, faceFlags;
+  std::vector<unsigned char> vertexColors;
+
+  static LayerSnapshot Of(MeshModel& mm) {
+    LayerSnapshot s;
+    s.vn = mm.cm.vn;
+    s.fn = mm.cm.fn;
+    s.dataMask = mm.dataMask();
+    for (auto& v : mm.cm.vert) {
+      for (int k = 0; k < 3; ++k) s.coords.push_back(v.P()[k]);
+      s.vertexFlags.push_back(v.Flags());
+      for (int k = 0; k < 4; ++k) s.vertexColors.push_back(v.C()[k]);
+    }
+    for (auto& f : mm.cm.face) {
+      for (int k = 0; k < 3; ++k) s.faceIndices.push_back(int(vcg::tri::Index(mm.cm, f.V(k))));
+      s.faceFlags.push_back(f.Flags());
+    }
+    return s;
+  }
+  bool operator==(const LayerSnapshot& o) const {
+    // NaN != NaN, so compare coordinates by bits.
+    return vn == o.vn && fn == o.fn && dataMask == o.dataMask && coords.size() == o.coords.size() &&
+           std::memcmp(coords.data(), o.coords.data(), coords.size() * sizeof(float)) == 0 &&
+           faceIndices == o.faceIndices && vertexFlags == o.vertexFlags && faceFlags == o.faceFlags &&
+           vertexColors == o.vertexColors;
+  }
+};
+
+class PluginTest : public ::testing::Test {
+protected:
+  void SetUp() override {
+    plugin = LoadPlugin();
+    ASSERT_NE(plugin, nullptr);
+    log.Clear();
+    plugin->setLog(&log);
+  }
+
+  MeshModel* AddLayer(const std::string& path) {
+    MeshModel* mm = document.addNewMesh(QString::fromStdString(path), "layer");
+    if (!path.empty()) {
+      int mask = 0;
+      const int err = vcg::tri::io::ImporterPLY<CMeshO>::Open(mm->cm, path.c_str(), mask);
+      EXPECT_FALSE(err != 0 && vcg::tri::io::ImporterPLY<CMeshO>::ErrorCritical(err)) << path;
+    }
+    return mm;
+  }
+
+  bool Apply(const QString& filterName, MeshModel& mm) {
+    QAction* action = FindFilter(plugin, filterName);
+    if (action == nullptr) return false;
+    RichParameterList parameters;
+    plugin->initParameterSet(action, mm, parameters);
+    return plugin->applyFilter(action, document, parameters, nullptr);
+  }
+
+  std::string LogText() const {
+    QStringList lines;
+    log.print(lines);
+    return lines.join("\n").toStdString();
+  }
+
+  MeshFilterInterface* plugin = nullptr;
+  MeshDocument document;
+  GLLogStream log;
+};
+
+const QString kReport = "Molecular Remesh: Quality Report";
+const QString kColor = "Molecular Remesh: Color Bad Elements";
+
+} // namespace
+
+TEST_F(PluginTest, ExposesItsFiltersInTheRemeshingClass) {
+  for (const QString& name : {kReport, kColor}) {
+    QAction* action = FindFilter(plugin, name);
+    ASSERT_NE(action, nullptr);
+    EXPECT_TRUE(plugin->getClass(action) & MeshFilterInterface::Remeshing);
+    EXPECT_FALSE(plugin->filterInfo(action).isEmpty());
+  }
+}
+
+struct BadInputCase {
+  const char* fixture; ///< file under tests/data, or "" for an empty layer
+  const char* expectedMessage;
+};
+
+class PluginBadInput : public PluginTest, public ::testing::WithParamInterface<BadInputCase> {};
+
+TEST_P(PluginBadInput, EveryFilterRefusesAndLeavesTheLayerUntouched) {
+  const BadInputCase c = GetParam();
+  for (const QString& name : {kReport, kColor}) {
+    MeshModel* mm = AddLayer(*c.fixture ? Fixture(c.fixture) : std::string());
+    const LayerSnapshot before = LayerSnapshot::Of(*mm);
+    EXPECT_FALSE(Apply(name, *mm)) << name.toStdString();
+    EXPECT_NE(plugin->errorMsg().toStdString().find(c.expectedMessage), std::string::npos)
+        << plugin->errorMsg().toStdString();
+    EXPECT_NE(LogText().find(c.expectedMessage), std::string::npos) << "the reason is logged too";
+    EXPECT_TRUE(LayerSnapshot::Of(*mm) == before) << name.toStdString();
+    document.delMesh(mm);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Inputs, PluginBadInput,
+                         ::testing::Values(BadInputCase{"", "empty"}, BadInputCase{"point_cloud.ply", "point cloud"},
+                                           BadInputCase{"nan_vertex.ply", "NaN"}));
+
+TEST_F(PluginTest, ReportOnNonManifoldAndDegenerateInputChangesNothing) {
+  for (const char* fixture : {"nonmanifold_fan.ply", "degenerate_faces.ply"}) {
+    MeshModel* mm = AddLayer(Fixture(fixture));
+    const LayerSnapshot before = LayerSnapshot::Of(*mm);
+    EXPECT_TRUE(Apply(kReport, *mm)) << fixture;
+    EXPECT_TRUE(LayerSnapshot::Of(*mm) == before) << fixture;
+    document.delMesh(mm);
+  }
+  EXPECT_NE(LogText().find("non-manifold edges"), std::string::npos);
+}
+
+TEST_F(PluginTest, ReportLogsTheTableOfARealMesh) {
+  MeshModel* mm = AddLayer(SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"));
+  const LayerSnapshot before = LayerSnapshot::Of(*mm);
+  ASSERT_TRUE(Apply(kReport, *mm)) << plugin->errorMsg().toStdString();
+  EXPECT_TRUE(LayerSnapshot::Of(*mm) == before);
+  const molremesh::QualityReport expected = molremesh::MeshQuality<CMeshO>::Compute(mm->cm);
+  const std::string text = LogText();
+  for (const char* row : {"Qmin", "V567", "obtuse faces", "genus", "self-intersecting pairs"})
+    EXPECT_NE(text.find(row), std::string::npos) << row;
+  EXPECT_NE(text.find(std::to_string(expected.boundaryEdges)), std::string::npos);
+}
+
+TEST_F(PluginTest, ColoringAgreesWithTheQualityReport) {
+  for (const std::string& path : {SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), SharedMesh("lysozyme_Lys1_msms.ply"),
+                                   Fixture("nonmanifold_fan.ply"), Fixture("degenerate_faces.ply")}) {
+    MeshModel* mm = AddLayer(path);
+    ASSERT_TRUE(Apply(kColor, *mm)) << plugin->errorMsg().toStdString();
+    EXPECT_TRUE(mm->hasDataMask(MeshModel::MM_VERTCOLOR | MeshModel::MM_FACECOLOR | MeshModel::MM_VERTQUALITY |
+                                MeshModel::MM_FACEQUALITY));
+    const molremesh::QualityReport report = molremesh::MeshQuality<CMeshO>::Compute(mm->cm);
+    using Coloring = molremesh::BadElementColoring<CMeshO>;
+    std::size_t red = 0, blue = 0, magenta = 0, redVertices = 0;
+    for (auto& f : mm->cm.face) {
+      if (f.C() == Coloring::ObtuseFaceColor()) ++red;
+      if (f.C() == Coloring::SmallAngleFaceColor()) ++blue;
+      if (f.C() == Coloring::ObtuseAndSmallFaceColor()) ++magenta;
+      EXPECT_NEAR(f.Q(), molremesh::MeshQuality<CMeshO>::FaceAngles(f).min(), 1e-3);
+    }
+    const std::vector<int> valence = molremesh::MeshQuality<CMeshO>::VertexValences(mm->cm);
+    for (std::size_t i = 0; i < mm->cm.vert.size(); ++i) {
+      if (mm->cm.vert[i].C() == Coloring::IrregularVertexColor()) ++redVertices;
+      EXPECT_EQ(mm->cm.vert[i].Q(), float(valence[i]));
+    }
+    EXPECT_EQ(red + magenta, report.obtuseFaces) << path;
+    EXPECT_EQ(blue + magenta, report.smallAngleFaces) << path;
+    EXPECT_EQ(redVertices, report.interiorVertices - report.regularVertices) << path;
+    document.delMesh(mm);
+  }
+}
+
+int main(int argc, char** argv) {
+  // QAction needs a QApplication; the offscreen platform needs no X display.
+  qputenv("QT_QPA_PLATFORM", "offscreen");
+  QApplication app(argc, argv);
+  ::testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
