@@ -1,4 +1,829 @@
+// Unit tests of molremesh::MeshQuality: known answers on small synthetic meshes, robustness on
+// broken inputs, the self-intersection grid against brute force, and a real molecular surface.
 #include <gtest/gtest.h>
+
 #include <vcg_ext/mesh_quality.h>
 #include <vcg_ext/mesh_types.h>
-TEST(MeshQuality, Placeholder) { SUCCEED(); }
+
+#include <vcg/complex/algorithms/create/platonic.h>
+#include <wrap/io_trimesh/import_ply.h>
+
+#include <array>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <vector>
+
+namespace {
+
+using molremesh::MeshD;
+using Quality = molremesh::MeshQuality<MeshD>;
+using Point = vcg::Point3d;
+
+constexpr double kPi = 3.14159265358979323846;
+const double kInf = std::numeric_limits<double>::infinity();
+const double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// A float mesh shaped like MeshLab's CMeshO, to check that the templates work on float
+// coordinates and give the same figures.
+class VertexF;
+class FaceF;
+struct UsedTypesF : public vcg::UsedTypes<vcg::Use<VertexF>::AsVertexType, vcg::Use<FaceF>::AsFaceType> {};
+class VertexF : public vcg::Vertex<UsedTypesF, vcg::vertex::Coord3f, vcg::vertex::Normal3f, vcg::vertex::BitFlags,
+                                   vcg::vertex::VFAdj, vcg::vertex::Mark> {};
+class FaceF : public vcg::Face<UsedTypesF, vcg::face::VertexRef, vcg::face::Normal3f, vcg::face::BitFlags,
+                               vcg::face::FFAdj, vcg::face::VFAdj, vcg::face::Mark> {};
+class MeshF : public vcg::tri::TriMesh<std::vector<VertexF>, std::vector<FaceF>> {};
+
+/// Mesh from explicit points and index triples (indices may repeat: used for broken inputs).
+/// (vcg meshes can be neither copied nor moved, hence the output parameter.)
+template <class Mesh>
+void MakeMesh(Mesh& m, const std::vector<Point>& points, const std::vector<std::array<int, 3>>& faces) {
+  m.Clear();
+  if (!points.empty()) vcg::tri::Allocator<Mesh>::AddVertices(m, points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    m.vert[i].P() = typename Mesh::CoordType(points[i][0], points[i][1], points[i][2]);
+  for (const auto& f : faces)
+    vcg::tri::Allocator<Mesh>::AddFace(m, &m.vert[f[0]], &m.vert[f[1]], &m.vert[f[2]]);
+}
+
+/// n x n quads in the z = 0 plane, each split along the same diagonal (interior valence 6).
+/// Quads for which skip(i, j) is true are left out.
+template <class Skip>
+void MakeGrid(MeshD& m, int n, Skip skip) {
+  std::vector<Point> points;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) points.emplace_back(i, j, 0);
+  std::vector<std::array<int, 3>> faces;
+  auto id = [n](int i, int j) { return j * (n + 1) + i; };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      if (skip(i, j)) continue;
+      faces.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+      faces.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  MakeMesh(m, points, faces);
+}
+void MakeGrid(MeshD& m, int n) {
+  MakeGrid(m, n, [](int, int) { return false; });
+}
+
+/// Tetrahedron with outward orientation, translated by offset.
+void AddTetrahedron(std::vector<Point>& points, std::vector<std::array<int, 3>>& faces, const Point& offset) {
+  const int b = int(points.size());
+  points.push_back(offset + Point(0, 0, 0));
+  points.push_back(offset + Point(1, 0, 0));
+  points.push_back(offset + Point(0, 1, 0));
+  points.push_back(offset + Point(0, 0, 1));
+  faces.push_back({b + 0, b + 2, b + 1});
+  faces.push_back({b + 0, b + 1, b + 3});
+  faces.push_back({b + 0, b + 3, b + 2});
+  faces.push_back({b + 1, b + 2, b + 3});
+}
+
+void MakeIcosphere(MeshD& m, int subdivisions) {
+  m.Clear();
+  vcg::tri::Sphere(m, subdivisions); // icosahedron, midpoint-subdivided, projected to the unit sphere
+}
+
+int SumHistogram(const molremesh::QualityReport& r) {
+  int sum = 0;
+  for (const auto& entry : r.valenceHistogram) sum += int(entry.second);
+  return sum;
+}
+
+// ----------------------------------------------------------------------------------------------
+// Single triangles
+// ----------------------------------------------------------------------------------------------
+
+TEST(MeshQuality, EquilateralTriangle) {
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0.5, std::sqrt(3.0) / 2, 0}}, {{0, 1, 2}});
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.vertices, 3u);
+  EXPECT_EQ(r.referencedVertices, 3u);
+  EXPECT_EQ(r.faces, 1u);
+  EXPECT_EQ(r.edges, 3u);
+  EXPECT_NEAR(r.qMin, 1.0, 1e-12);
+  EXPECT_NEAR(r.qAvg, 1.0, 1e-12);
+  EXPECT_NEAR(r.aspectRatioMax, 1.0, 1e-12);
+  EXPECT_NEAR(r.aspectRatioMean, 1.0, 1e-12);
+  EXPECT_NEAR(r.angleMin, 60.0, 1e-9);
+  EXPECT_NEAR(r.angleMax, 60.0, 1e-9);
+  EXPECT_NEAR(r.meanMinAngle, 60.0, 1e-9);
+  EXPECT_EQ(r.smallAngleFaces, 0u);
+  EXPECT_EQ(r.obtuseFaces, 0u);
+  EXPECT_EQ(r.largeAngleFaces, 0u);
+  EXPECT_NEAR(r.area, std::sqrt(3.0) / 4, 1e-12);
+  EXPECT_EQ(r.boundaryEdges, 3u);
+  EXPECT_EQ(r.boundaryLoops, 1u);
+  EXPECT_EQ(r.nonManifoldEdges, 0u);
+  EXPECT_EQ(r.nonManifoldVertices, 0u);
+  EXPECT_EQ(r.euler, 1);
+  EXPECT_EQ(r.genus, 0);
+  ASSERT_EQ(r.components, 1u);
+  EXPECT_TRUE(r.componentInfo[0].manifold);
+  EXPECT_FALSE(r.componentInfo[0].closed);
+  EXPECT_EQ(r.componentInfo[0].euler, 1);
+  EXPECT_EQ(r.componentInfo[0].genus, 0);
+  EXPECT_EQ(r.componentInfo[0].boundaryEdges, 3u);
+  EXPECT_EQ(r.interiorVertices, 0u);
+  EXPECT_DOUBLE_EQ(r.v567Percent, 100.0); // no interior vertex
+  EXPECT_EQ(r.degenerateFaces, 0u);
+  EXPECT_TRUE(r.selfIntersectionsComputed);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  EXPECT_TRUE(r.isTwoManifold());
+
+  const auto angles = Quality::FaceAngles(m.face[0]);
+  for (double a : angles.degrees) EXPECT_NEAR(a, 60.0, 1e-9);
+}
+
+TEST(MeshQuality, RightIsoscelesTriangle) {
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}, {{0, 1, 2}});
+  const auto r = Quality::Compute(m);
+  const double sqrt2 = std::sqrt(2.0), sqrt3 = std::sqrt(3.0);
+  // A = 1/2, half perimeter s = (2 + sqrt 2) / 2, longest edge h = sqrt 2.
+  const double s = (2 + sqrt2) / 2;
+  EXPECT_NEAR(r.qMin, (6 / sqrt3) * 0.5 / (s * sqrt2), 1e-12);
+  EXPECT_NEAR(r.qMin, sqrt3 * (sqrt2 - 1), 1e-12);
+  // AR = abc / (8 (s-a)(s-b)(s-c)) = (1 + sqrt 2) / 2.
+  EXPECT_NEAR(r.aspectRatioMax, 1 * 1 * sqrt2 / (8 * (s - 1) * (s - 1) * (s - sqrt2)), 1e-12);
+  EXPECT_NEAR(r.aspectRatioMax, (1 + sqrt2) / 2, 1e-12);
+  EXPECT_NEAR(r.angleMin, 45.0, 1e-9);
+  EXPECT_NEAR(r.angleMax, 90.0, 1e-9);
+  EXPECT_EQ(r.obtuseFaces, 1u); // max angle >= 90
+  EXPECT_DOUBLE_EQ(r.obtusePercent, 100.0);
+  EXPECT_EQ(r.largeAngleFaces, 0u);
+  EXPECT_EQ(r.smallAngleFaces, 0u);
+  EXPECT_NEAR(r.area, 0.5, 1e-15);
+
+  const auto angles = Quality::FaceAngles(m.face[0]);
+  EXPECT_NEAR(angles.degrees[0], 90.0, 1e-9);
+  EXPECT_NEAR(angles.degrees[1], 45.0, 1e-9);
+  EXPECT_NEAR(angles.degrees[2], 45.0, 1e-9);
+  EXPECT_NEAR(angles.min(), 45.0, 1e-9);
+  EXPECT_NEAR(angles.max(), 90.0, 1e-9);
+}
+
+TEST(MeshQuality, AngleThresholdsFollowParams) {
+  // Isosceles, apex at the origin: the legs are 20 degrees off the x axis, so the angles are
+  // 40 (apex), 70, 70.
+  const double half = 70.0 * kPi / 180.0;
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {std::sin(half), -std::cos(half), 0}, {std::sin(half), std::cos(half), 0}},
+                           {{0, 1, 2}});
+  const auto angles = Quality::FaceAngles(m.face[0]);
+  EXPECT_NEAR(angles.degrees[0], 40.0, 1e-9);
+  EXPECT_NEAR(angles.degrees[1], 70.0, 1e-9);
+  EXPECT_NEAR(angles.degrees[2], 70.0, 1e-9);
+
+  Quality::Params params;
+  auto r = Quality::Compute(m, params);
+  EXPECT_EQ(r.smallAngleFaces, 0u);
+  EXPECT_EQ(r.obtuseFaces, 0u);
+  params.smallAngle = 45;
+  params.obtuseAngle = 70.0 - 1e-9; // the 70 degree angle counts
+  params.largeAngle = 69.9; // >
+  r = Quality::Compute(m, params);
+  EXPECT_EQ(r.smallAngleFaces, 1u);
+  EXPECT_EQ(r.obtuseFaces, 1u);
+  EXPECT_EQ(r.largeAngleFaces, 1u);
+  params.largeAngle = 70.0 + 1e-9;
+  r = Quality::Compute(m, params);
+  EXPECT_EQ(r.largeAngleFaces, 0u);
+}
+
+TEST(MeshQuality, NeedleTriangleAnglesAreAccurate) {
+  // A 1e-7 degree angle: acos would lose it entirely, atan2 keeps it.
+  const double tiny = 1e-7 * kPi / 180.0;
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {std::cos(tiny), std::sin(tiny), 0}}, {{0, 1, 2}});
+  Quality::Params params;
+  params.degenerateAreaEpsilon = 0; // keep it non-degenerate
+  const auto r = Quality::Compute(m, params);
+  EXPECT_EQ(r.degenerateFaces, 0u);
+  EXPECT_NEAR(r.angleMin, 1e-7, 1e-12);
+  EXPECT_NEAR(r.angleMax, 90.0 - 0.5e-7, 1e-6);
+  EXPECT_GT(r.aspectRatioMax, 1e6);
+  EXPECT_TRUE(std::isfinite(r.aspectRatioMax));
+}
+
+// ----------------------------------------------------------------------------------------------
+// Closed surfaces
+// ----------------------------------------------------------------------------------------------
+
+TEST(MeshQuality, Icosahedron) {
+  MeshD m;
+  vcg::tri::Icosahedron(m); // edge length 2
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.vertices, 12u);
+  EXPECT_EQ(r.faces, 20u);
+  EXPECT_EQ(r.edges, 30u);
+  EXPECT_EQ(r.euler, 2);
+  EXPECT_EQ(r.genus, 0);
+  ASSERT_EQ(r.components, 1u);
+  EXPECT_TRUE(r.componentInfo[0].closed);
+  EXPECT_EQ(r.componentInfo[0].genus, 0);
+  EXPECT_EQ(r.boundaryEdges, 0u);
+  EXPECT_EQ(r.boundaryLoops, 0u);
+  EXPECT_EQ(r.interiorVertices, 12u);
+  EXPECT_DOUBLE_EQ(r.v567Percent, 100.0);
+  ASSERT_EQ(r.valenceHistogram.size(), 1u);
+  EXPECT_EQ(r.valenceHistogram.at(5), 12u);
+  EXPECT_NEAR(r.qMin, 1.0, 1e-9);
+  EXPECT_NEAR(r.area, 5 * std::sqrt(3.0) * 4, 1e-9);               // 5 sqrt(3) a^2
+  EXPECT_NEAR(r.volume, 5.0 / 12.0 * (3 + std::sqrt(5.0)) * 8, 1e-9); // 5/12 (3 + sqrt 5) a^3
+  EXPECT_NEAR(r.meanEdgeLength, 2.0, 1e-12);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  EXPECT_EQ(r.adjacentOverlapPairs, 0u);
+
+  const auto valences = Quality::VertexValences(m);
+  for (int v : valences) EXPECT_EQ(v, 5);
+  for (bool b : Quality::VertexOnBorder(m)) EXPECT_FALSE(b);
+}
+
+TEST(MeshQuality, IcosphereMatchesTheSphere) {
+  MeshD m;
+  MakeIcosphere(m, 5); // 20 * 4^5 = 20480 faces
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.faces, 20480u);
+  EXPECT_EQ(r.vertices, 10242u);
+  EXPECT_EQ(r.euler, 2);
+  EXPECT_EQ(r.genus, 0);
+  ASSERT_EQ(r.components, 1u);
+  EXPECT_TRUE(r.componentInfo[0].closed);
+  EXPECT_EQ(r.boundaryEdges, 0u);
+  EXPECT_EQ(r.nonManifoldEdges, 0u);
+  EXPECT_EQ(r.nonManifoldVertices, 0u);
+  EXPECT_NEAR(r.area, 4 * kPi, 0.01 * 4 * kPi);
+  EXPECT_NEAR(r.volume, 4.0 / 3.0 * kPi, 0.01 * 4.0 / 3.0 * kPi);
+  EXPECT_LT(r.area, 4 * kPi); // inscribed polyhedron
+  EXPECT_DOUBLE_EQ(r.v567Percent, 100.0);
+  EXPECT_EQ(r.interiorVertices, 10242u);
+  ASSERT_EQ(r.valenceHistogram.size(), 2u);
+  EXPECT_EQ(r.valenceHistogram.at(5), 12u);
+  EXPECT_EQ(r.valenceHistogram.at(6), 10242u - 12u);
+  EXPECT_EQ(SumHistogram(r), int(r.interiorVertices));
+  EXPECT_EQ(r.degenerateFaces, 0u);
+  EXPECT_GT(r.qMin, 0.7);
+  EXPECT_GT(r.angleMin, 40.0);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  EXPECT_EQ(r.adjacentOverlapPairs, 0u);
+  EXPECT_EQ(r.selfIntersectingFaces, 0u);
+}
+
+TEST(MeshQuality, CoarseIcosphereIsCloseToo) {
+  MeshD m;
+  MakeIcosphere(m, 3);
+  const auto r = Quality::Compute(m);
+  EXPECT_NEAR(r.area, 4 * kPi, 0.02 * 4 * kPi);
+  EXPECT_NEAR(r.volume, 4.0 / 3.0 * kPi, 0.03 * 4.0 / 3.0 * kPi);
+  EXPECT_EQ(r.valenceHistogram.at(5), 12u);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+}
+
+TEST(MeshQuality, InvertedOrientationGivesNegativeVolume) {
+  MeshD m;
+  vcg::tri::Icosahedron(m);
+  for (auto& f : m.face) std::swap(f.V(1), f.V(2));
+  const auto r = Quality::Compute(m);
+  EXPECT_NEAR(r.volume, -5.0 / 12.0 * (3 + std::sqrt(5.0)) * 8, 1e-9);
+}
+
+TEST(MeshQuality, VolumeIsTranslationInvariant) {
+  MeshD m;
+  MakeIcosphere(m, 3);
+  const auto ref = Quality::Compute(m);
+  for (auto& v : m.vert) v.P() += Point(1e4, -2e4, 3e4);
+  const auto moved = Quality::Compute(m);
+  EXPECT_NEAR(moved.volume, ref.volume, 1e-9 * ref.volume);
+  EXPECT_NEAR(moved.area, ref.area, 1e-9 * ref.area);
+  EXPECT_EQ(moved.selfIntersectingPairs, 0u);
+}
+
+TEST(MeshQuality, TorusHasGenusOne) {
+  MeshD m;
+  vcg::tri::Torus(m, 3.0f, 1.0f, 24, 12);
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.faces, 2u * 24u * 12u);
+  EXPECT_EQ(r.euler, 0);
+  EXPECT_EQ(r.genus, 1);
+  ASSERT_EQ(r.components, 1u);
+  EXPECT_TRUE(r.componentInfo[0].closed);
+  EXPECT_EQ(r.componentInfo[0].genus, 1);
+  EXPECT_EQ(r.boundaryEdges, 0u);
+  EXPECT_EQ(r.nonManifoldEdges, 0u);
+  EXPECT_EQ(r.nonManifoldVertices, 0u);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  EXPECT_EQ(r.adjacentOverlapPairs, 0u);
+  // Smooth torus: volume 2 pi^2 R r^2, area 4 pi^2 R r. The coarse inscribed polyhedron (a 12-gon
+  // cross-section swept along a 24-gon) falls short of both by a few percent.
+  const double smoothVolume = 2 * kPi * kPi * 3, smoothArea = 4 * kPi * kPi * 3;
+  EXPECT_LT(std::fabs(r.volume), smoothVolume);
+  EXPECT_GT(std::fabs(r.volume), 0.9 * smoothVolume);
+  EXPECT_LT(r.area, smoothArea);
+  EXPECT_GT(r.area, 0.95 * smoothArea);
+}
+
+TEST(MeshQuality, TwoSpheresAreTwoComponentsSortedBySize) {
+  MeshD m;
+  MakeIcosphere(m, 2);
+  MeshD big;
+  MakeIcosphere(big, 3);
+  for (auto& v : big.vert) v.P() += Point(5, 0, 0);
+  vcg::tri::Append<MeshD, MeshD>::Mesh(m, big);
+  const auto r = Quality::Compute(m);
+  ASSERT_EQ(r.components, 2u);
+  EXPECT_EQ(r.componentInfo[0].faces, 1280u); // largest first
+  EXPECT_EQ(r.componentInfo[1].faces, 320u);
+  EXPECT_EQ(r.componentInfo[0].euler, 2);
+  EXPECT_EQ(r.componentInfo[1].euler, 2);
+  EXPECT_EQ(r.euler, 4);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+}
+
+// ----------------------------------------------------------------------------------------------
+// Open surfaces
+// ----------------------------------------------------------------------------------------------
+
+TEST(MeshQuality, OpenGridPatch) {
+  MeshD m;
+  MakeGrid(m, 4);
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.vertices, 25u);
+  EXPECT_EQ(r.faces, 32u);
+  EXPECT_EQ(r.edges, 56u); // 2 * 4 * 5 axis edges + 16 diagonals
+  EXPECT_EQ(r.boundaryEdges, 16u);
+  EXPECT_EQ(r.boundaryLoops, 1u);
+  EXPECT_EQ(r.euler, 1);
+  EXPECT_EQ(r.genus, 0);
+  ASSERT_EQ(r.components, 1u);
+  EXPECT_FALSE(r.componentInfo[0].closed);
+  EXPECT_TRUE(r.componentInfo[0].manifold);
+  EXPECT_EQ(r.componentInfo[0].boundaryLoops, 1u);
+  EXPECT_EQ(r.interiorVertices, 9u);
+  EXPECT_EQ(r.valenceHistogram.at(6), 9u);
+  EXPECT_DOUBLE_EQ(r.v567Percent, 100.0);
+  EXPECT_NEAR(r.area, 16.0, 1e-12);
+  EXPECT_NEAR(r.angleMin, 45.0, 1e-9);
+  EXPECT_NEAR(r.angleMax, 90.0, 1e-9);
+  EXPECT_EQ(r.obtuseFaces, 32u);
+  // Coplanar neighbours two rings apart must not be reported as touching.
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  EXPECT_EQ(r.adjacentOverlapPairs, 0u);
+
+  const auto border = Quality::VertexOnBorder(m);
+  const auto valence = Quality::VertexValences(m);
+  ASSERT_EQ(border.size(), 25u);
+  for (int j = 0; j <= 4; ++j)
+    for (int i = 0; i <= 4; ++i) {
+      const bool onFrame = i == 0 || j == 0 || i == 4 || j == 4;
+      EXPECT_EQ(border[j * 5 + i], onFrame) << i << "," << j;
+      if (!onFrame) {
+        EXPECT_EQ(valence[j * 5 + i], 6);
+      }
+    }
+  EXPECT_EQ(valence[0], 3);  // corner on the diagonal
+  EXPECT_EQ(valence[4], 2);  // corner off the diagonal
+}
+
+TEST(MeshQuality, AnnulusHasTwoBoundaryLoops) {
+  MeshD m;
+  MakeGrid(m, 5, [](int i, int j) { return i == 2 && j == 2; });
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.boundaryEdges, 20u + 4u);
+  EXPECT_EQ(r.boundaryLoops, 2u);
+  EXPECT_EQ(r.euler, 0);
+  EXPECT_EQ(r.genus, 0); // (2 - 0 - 2) / 2
+  EXPECT_EQ(r.nonManifoldVertices, 0u);
+}
+
+TEST(MeshQuality, DeletedElementsAreSkipped) {
+  MeshD m;
+  vcg::tri::Icosahedron(m);
+  vcg::tri::Allocator<MeshD>::DeleteFace(m, m.face[3]);
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.faces, 19u);
+  EXPECT_EQ(r.boundaryEdges, 3u);
+  EXPECT_EQ(r.boundaryLoops, 1u);
+  EXPECT_EQ(r.euler, 1);
+  EXPECT_EQ(r.genus, 0);
+
+  MeshD withDeletedVertex;
+  vcg::tri::Icosahedron(withDeletedVertex);
+  auto extra = vcg::tri::Allocator<MeshD>::AddVertices(withDeletedVertex, 1);
+  extra->P() = Point(kNaN, 0, 0);
+  vcg::tri::Allocator<MeshD>::DeleteVertex(withDeletedVertex, *extra);
+  const auto r2 = Quality::Compute(withDeletedVertex);
+  EXPECT_EQ(r2.vertices, 12u);
+  EXPECT_EQ(r2.unreferencedVertices, 0u);
+  EXPECT_EQ(r2.nonFiniteVertices, 0u);
+}
+
+// ----------------------------------------------------------------------------------------------
+// Non-manifold inputs
+// ----------------------------------------------------------------------------------------------
+
+TEST(MeshQuality, NonManifoldEdge) {
+  // Three triangles hinged on the edge (0, 1).
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1}},
+                           {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.nonManifoldEdges, 1u);
+  // The vertices of the non-manifold edge are not counted again (vcglib's convention).
+  EXPECT_EQ(r.nonManifoldVertices, 0u);
+  EXPECT_FALSE(r.isTwoManifold());
+  EXPECT_EQ(r.boundaryEdges, 6u);
+  EXPECT_EQ(r.boundaryLoops, 0u); // the boundary polylines end on the non-manifold edge
+  ASSERT_EQ(r.components, 1u);
+  EXPECT_FALSE(r.componentInfo[0].manifold);
+  EXPECT_FALSE(r.componentInfo[0].closed);
+  EXPECT_EQ(r.componentInfo[0].genus, -1);
+  EXPECT_EQ(r.genus, -1);
+  EXPECT_EQ(r.euler, 5 - 7 + 3);
+  for (bool b : Quality::VertexOnBorder(m)) EXPECT_TRUE(b);
+  EXPECT_EQ(r.interiorVertices, 0u);
+}
+
+TEST(MeshQuality, TetrahedraTouchingAtOneVertex) {
+  std::vector<Point> points;
+  std::vector<std::array<int, 3>> faces;
+  AddTetrahedron(points, faces, Point(0, 0, 0));
+  AddTetrahedron(points, faces, Point(1, 0, 0)); // its vertex 0 is the first one's vertex 1
+  // Weld the coincident vertex: face indices 4 -> 1.
+  for (auto& f : faces)
+    for (int& v : f)
+      if (v == 4) v = 1;
+  MeshD m;
+  MakeMesh(m, points, faces);
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.nonManifoldVertices, 1u);
+  EXPECT_EQ(r.nonManifoldEdges, 0u);
+  EXPECT_EQ(r.boundaryEdges, 0u);
+  EXPECT_EQ(r.unreferencedVertices, 1u); // the welded-away vertex 4
+  EXPECT_EQ(r.referencedVertices, 7u);
+  EXPECT_EQ(r.components, 2u); // vertex contact does not join components
+  for (const auto& c : r.componentInfo) {
+    EXPECT_EQ(c.faces, 4u);
+    EXPECT_FALSE(c.manifold);
+    EXPECT_EQ(c.genus, -1);
+    EXPECT_EQ(c.euler, 2);
+  }
+  EXPECT_EQ(r.genus, -1);
+  EXPECT_EQ(r.euler, 7 - 12 + 8);
+  EXPECT_FALSE(r.isTwoManifold());
+  // The two tetrahedra only touch at the shared vertex.
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  EXPECT_EQ(r.adjacentOverlapPairs, 0u);
+}
+
+TEST(MeshQuality, BowtieKeepsBothBoundaryLoops) {
+  // Two open triangles sharing only vertex 0: the pinch is non-manifold, and each fan pairs its own
+  // two boundary edges, so the boundary still splits into two loops.
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {1, 1, 0}, {1, -1, 0}, {-1, 1, 0}, {-1, -1, 0}}, {{0, 2, 1}, {0, 3, 4}});
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.nonManifoldVertices, 1u);
+  EXPECT_EQ(r.components, 2u);
+  EXPECT_EQ(r.boundaryEdges, 6u);
+  EXPECT_EQ(r.boundaryLoops, 2u);
+  EXPECT_EQ(r.genus, -1);
+  EXPECT_EQ(r.adjacentOverlapPairs, 0u);
+}
+
+// ----------------------------------------------------------------------------------------------
+// Self-intersections
+// ----------------------------------------------------------------------------------------------
+
+TEST(MeshQuality, CrossingTrianglesSharingNoVertex) {
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0.5, 0.5, -1}, {0.5, 0.5, 1}, {3, 3, 0.2}},
+                           {{0, 1, 2}, {3, 4, 5}});
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.selfIntersectingPairs, 1u);
+  EXPECT_EQ(r.adjacentOverlapPairs, 0u);
+  EXPECT_EQ(r.selfIntersectingFaces, 2u);
+  EXPECT_EQ(r.components, 2u);
+
+  Quality::Params params;
+  params.computeSelfIntersections = false;
+  const auto skipped = Quality::Compute(m, params);
+  EXPECT_FALSE(skipped.selfIntersectionsComputed);
+  EXPECT_EQ(skipped.selfIntersectingPairs, 0u);
+}
+
+TEST(MeshQuality, DisjointTriangles) {
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0.5}, {1, 0, 0.5}, {0, 1, 0.5}},
+                           {{0, 1, 2}, {3, 4, 5}});
+  EXPECT_EQ(Quality::Compute(m).selfIntersectingPairs, 0u);
+  // Near miss: the second triangle's plane crosses the first one's, but beyond its edge.
+  MeshD nearMiss;
+  MakeMesh(nearMiss, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.6, 0.6, -1}, {0.6, 0.6, 1}, {2, 2, 0}},
+                                  {{0, 1, 2}, {3, 4, 5}});
+  EXPECT_EQ(Quality::Compute(nearMiss).selfIntersectingPairs, 0u);
+}
+
+TEST(MeshQuality, CoplanarTriangles) {
+  MeshD overlap;
+  MakeMesh(overlap, {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0.5, 0.5, 0}, {3, 0.5, 0}, {0.5, 3, 0}},
+                                 {{0, 1, 2}, {3, 4, 5}});
+  EXPECT_EQ(Quality::Compute(overlap).selfIntersectingPairs, 1u);
+  MeshD contained;
+  MakeMesh(contained, {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0.5, 0.5, 0}, {1, 0.5, 0}, {0.5, 1, 0}},
+                                   {{0, 1, 2}, {3, 4, 5}});
+  EXPECT_EQ(Quality::Compute(contained).selfIntersectingPairs, 1u);
+  MeshD apart;
+  MakeMesh(apart, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, 2, 0}},
+                               {{0, 1, 2}, {3, 4, 5}});
+  EXPECT_EQ(Quality::Compute(apart).selfIntersectingPairs, 0u);
+}
+
+TEST(MeshQuality, TouchingAtDuplicatedVertexCountsAsIntersecting) {
+  // Closed-set semantics: two faces whose distinct vertices 2 and 3 have the same position touch.
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 1, 0}, {1, 2, 0.5}, {-1, 2, 0.5}},
+                           {{0, 1, 2}, {3, 4, 5}});
+  EXPECT_EQ(Quality::Compute(m).selfIntersectingPairs, 1u);
+}
+
+TEST(MeshQuality, SharedVertexOverlap) {
+  // Both faces share vertex 0; the second one pierces the first away from it.
+  MeshD crossing;
+  MakeMesh(crossing, {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {1, 0.3, -1}, {0.3, 1, 1}}, {{0, 1, 2}, {0, 3, 4}});
+  const auto r = Quality::Compute(crossing);
+  EXPECT_EQ(r.adjacentOverlapPairs, 1u);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  EXPECT_EQ(r.selfIntersectingFaces, 2u);
+  // Coplanar folded fan: the second face lies inside the first one's corner.
+  MeshD folded;
+  MakeMesh(folded, {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {1, 0.2, 0}, {0.2, 1, 0}}, {{0, 1, 2}, {0, 3, 4}});
+  EXPECT_EQ(Quality::Compute(folded).adjacentOverlapPairs, 1u);
+  // A proper fan sector next to it: only the shared vertex in common.
+  MeshD fan;
+  MakeMesh(fan, {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {-2, 0, 0}, {0, -2, 0}}, {{0, 1, 2}, {0, 3, 4}});
+  EXPECT_EQ(Quality::Compute(fan).adjacentOverlapPairs, 0u);
+}
+
+TEST(MeshQuality, DentedSphereSelfIntersects) {
+  // Pushing one vertex through the opposite side makes its fan cross the far faces.
+  MeshD m;
+  MakeIcosphere(m, 3);
+  m.vert[0].P() = -m.vert[0].P() * 1.3;
+  const auto r = Quality::Compute(m);
+  EXPECT_GT(r.selfIntersectingPairs, 0u);
+  EXPECT_EQ(r.boundaryEdges, 0u);
+}
+
+TEST(MeshQuality, OverlappingSpheresIntersect) {
+  MeshD m;
+  MakeIcosphere(m, 3);
+  MeshD other;
+  MakeIcosphere(other, 3);
+  for (auto& v : other.vert) v.P() += Point(1, 0, 0);
+  vcg::tri::Append<MeshD, MeshD>::Mesh(m, other);
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.components, 2u);
+  // Both unit spheres cross on a circle of radius sqrt(3)/2: about 2 pi 0.87 / 0.1 edge crossings.
+  EXPECT_GT(r.selfIntersectingPairs, 50u);
+  EXPECT_GT(r.selfIntersectingFaces, 50u);
+}
+
+/// Counts by brute force with the same predicates, to check the grid neither misses nor repeats.
+std::array<std::size_t, 2> BruteForceIntersections(const MeshD& m) {
+  namespace qd = molremesh::quality_detail;
+  std::array<std::size_t, 2> counts{0, 0};
+  const double tol = 1e-12;
+  for (std::size_t i = 0; i < m.face.size(); ++i)
+    for (std::size_t j = i + 1; j < m.face.size(); ++j) {
+      const auto& a = m.face[i];
+      const auto& b = m.face[j];
+      int shared = 0, ca = -1, cb = -1;
+      for (int u = 0; u < 3; ++u)
+        for (int w = 0; w < 3; ++w)
+          if (a.cV(u) == b.cV(w)) ++shared, ca = u, cb = w;
+      const auto ta = qd::MakePlanarTriangle(a.cP(0), a.cP(1), a.cP(2));
+      const auto tb = qd::MakePlanarTriangle(b.cP(0), b.cP(1), b.cP(2));
+      if (shared == 0 && qd::TrianglesIntersect(ta, tb, tol)) ++counts[0];
+      if (shared == 1 && qd::SharedCornerOverlap(ta, ca, tb, cb, tol)) ++counts[1];
+    }
+  return counts;
+}
+
+TEST(MeshQuality, GridCountsMatchBruteForce) {
+  // Random triangle soup with shared vertices and sizes from tiny to large, so faces span many
+  // grid cells and many candidate pairs are seen in several cells.
+  std::mt19937 rng(1234);
+  std::uniform_real_distribution<double> coord(0.0, 10.0);
+  std::uniform_int_distribution<int> pick(0, 199);
+  std::vector<Point> points;
+  for (int i = 0; i < 200; ++i) points.emplace_back(coord(rng), coord(rng), coord(rng) * 0.3);
+  std::vector<std::array<int, 3>> faces;
+  while (faces.size() < 400) {
+    const int a = pick(rng);
+    // Mostly local triangles (nearby indices are not nearby points, so pick by distance).
+    int b = pick(rng), c = pick(rng);
+    if (faces.size() % 3 != 0) {
+      int best1 = -1, best2 = -1;
+      double d1 = 1e300, d2 = 1e300;
+      for (int k = 0; k < 200; ++k) {
+        if (k == a) continue;
+        const double d = (points[k] - points[a]).Norm() + std::uniform_real_distribution<double>(0, 2)(rng);
+        if (d < d1) best2 = best1, d2 = d1, best1 = k, d1 = d;
+        else if (d < d2) best2 = k, d2 = d;
+      }
+      b = best1;
+      c = best2;
+    }
+    if (a == b || b == c || a == c) continue;
+    faces.push_back({a, b, c});
+  }
+  MeshD m;
+  MakeMesh(m, points, faces);
+  const auto r = Quality::Compute(m);
+  const auto brute = BruteForceIntersections(m);
+  EXPECT_GT(brute[0], 0u);
+  EXPECT_GT(brute[1], 0u);
+  EXPECT_EQ(r.degenerateFaces, 0u);
+  EXPECT_EQ(r.selfIntersectingPairs, brute[0]);
+  EXPECT_EQ(r.adjacentOverlapPairs, brute[1]);
+  // Deterministic.
+  const auto again = Quality::Compute(m);
+  EXPECT_EQ(again.selfIntersectingPairs, r.selfIntersectingPairs);
+  EXPECT_EQ(again.adjacentOverlapPairs, r.adjacentOverlapPairs);
+}
+
+// ----------------------------------------------------------------------------------------------
+// Broken inputs
+// ----------------------------------------------------------------------------------------------
+
+TEST(MeshQuality, DegenerateFaces) {
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0.5, std::sqrt(3.0) / 2, 0}, {2, 0, 0}, {3, 0, 0}, {4, 0, 0}},
+                           {{0, 1, 2}, {0, 0, 1}, {3, 4, 5}});
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.faces, 3u);
+  EXPECT_EQ(r.degenerateFaces, 2u);
+  EXPECT_DOUBLE_EQ(r.qMin, 0.0);
+  EXPECT_NEAR(r.qAvg, 1.0 / 3.0, 1e-12);
+  EXPECT_DOUBLE_EQ(r.angleMin, 0.0);
+  EXPECT_DOUBLE_EQ(r.angleMax, 180.0);
+  EXPECT_NEAR(r.meanMinAngle, 20.0, 1e-9);
+  EXPECT_EQ(r.aspectRatioMax, kInf);
+  EXPECT_EQ(r.aspectRatioMean, kInf);
+  EXPECT_NEAR(r.aspectRatioMeanNonDegenerate, 1.0, 1e-12);
+  EXPECT_EQ(r.smallAngleFaces, 2u);
+  EXPECT_EQ(r.obtuseFaces, 2u);
+  EXPECT_EQ(r.largeAngleFaces, 2u);
+  // The repeated-index face takes no part in topology; the collinear one does.
+  EXPECT_EQ(r.edges, 6u);
+  EXPECT_EQ(r.components, 2u);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+
+  const auto repeated = Quality::FaceAngles(m.face[1]);
+  EXPECT_DOUBLE_EQ(repeated.min(), 0.0);
+  EXPECT_DOUBLE_EQ(repeated.max(), 180.0);
+  const auto collinear = Quality::FaceAngles(m.face[2]);
+  EXPECT_DOUBLE_EQ(collinear.max(), 180.0);
+}
+
+TEST(MeshQuality, AllFacesDegenerate) {
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {1, 0, 0}}, {{0, 0, 1}, {1, 1, 1}});
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.degenerateFaces, 2u);
+  EXPECT_EQ(r.edges, 0u);
+  EXPECT_EQ(r.components, 0u);
+  EXPECT_EQ(r.referencedVertices, 2u);
+  EXPECT_DOUBLE_EQ(r.aspectRatioMeanNonDegenerate, 0.0);
+}
+
+TEST(MeshQuality, EmptyMesh) {
+  const MeshD m;
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.vertices, 0u);
+  EXPECT_EQ(r.faces, 0u);
+  EXPECT_EQ(r.edges, 0u);
+  EXPECT_EQ(r.components, 0u);
+  EXPECT_EQ(r.boundaryEdges, 0u);
+  EXPECT_EQ(r.degenerateFaces, 0u);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  EXPECT_DOUBLE_EQ(r.qMin, 0.0);
+  EXPECT_DOUBLE_EQ(r.qAvg, 0.0);
+  EXPECT_DOUBLE_EQ(r.angleMin, 0.0);
+  EXPECT_DOUBLE_EQ(r.angleMax, 0.0);
+  EXPECT_DOUBLE_EQ(r.aspectRatioMax, 0.0);
+  EXPECT_DOUBLE_EQ(r.area, 0.0);
+  EXPECT_DOUBLE_EQ(r.volume, 0.0);
+  EXPECT_EQ(r.euler, 0);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_TRUE(Quality::VertexValences(m).empty());
+  EXPECT_TRUE(Quality::VertexOnBorder(m).empty());
+}
+
+TEST(MeshQuality, PointCloud) {
+  MeshD m;
+  MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {kNaN, 0, 0}}, {});
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.vertices, 4u);
+  EXPECT_EQ(r.referencedVertices, 0u);
+  EXPECT_EQ(r.unreferencedVertices, 4u);
+  EXPECT_EQ(r.nonFiniteVertices, 1u);
+  EXPECT_EQ(r.faces, 0u);
+  EXPECT_EQ(r.edges, 0u);
+  EXPECT_EQ(r.components, 0u);
+  EXPECT_EQ(r.interiorVertices, 0u);
+  EXPECT_DOUBLE_EQ(r.area, 0.0);
+  EXPECT_DOUBLE_EQ(r.volume, 0.0);
+  EXPECT_EQ(r.euler, 0);
+  EXPECT_EQ(Quality::VertexValences(m), std::vector<int>(4, 0));
+}
+
+TEST(MeshQuality, NonFiniteVertex) {
+  std::vector<Point> points;
+  std::vector<std::array<int, 3>> faces;
+  AddTetrahedron(points, faces, Point(0, 0, 0));
+  points[3] = Point(kNaN, 0, 0);
+  MeshD m;
+  MakeMesh(m, points, faces);
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.nonFiniteVertices, 1u);
+  EXPECT_EQ(r.degenerateFaces, 3u); // the three faces on vertex 3
+  EXPECT_TRUE(std::isfinite(r.area));
+  EXPECT_NEAR(r.area, 0.5, 1e-12); // only the face without vertex 3
+  EXPECT_TRUE(std::isfinite(r.volume));
+  EXPECT_TRUE(std::isfinite(r.meanEdgeLength));
+  EXPECT_DOUBLE_EQ(r.qMin, 0.0);
+  EXPECT_DOUBLE_EQ(r.angleMin, 0.0);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  // Topology does not depend on coordinates.
+  EXPECT_EQ(r.euler, 2);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_EQ(r.boundaryEdges, 0u);
+
+  const auto angles = Quality::FaceAngles(m.face[1]);
+  EXPECT_DOUBLE_EQ(angles.max(), 180.0);
+
+  // Infinite coordinates too.
+  MeshD inf;
+  MakeMesh(inf, points, faces);
+  inf.vert[3].P() = Point(0, kInf, 0);
+  const auto ri = Quality::Compute(inf);
+  EXPECT_EQ(ri.nonFiniteVertices, 1u);
+  EXPECT_EQ(ri.degenerateFaces, 3u);
+}
+
+// ----------------------------------------------------------------------------------------------
+// Float meshes (MeshLab's CMeshO)
+// ----------------------------------------------------------------------------------------------
+
+TEST(MeshQuality, FloatMeshGivesTheSameFigures) {
+  MeshD md;
+  MakeIcosphere(md, 3);
+  MeshF mf;
+  vcg::tri::Append<MeshF, MeshD>::MeshCopy(mf, md);
+  // Same coordinates in both meshes: round the double ones to float.
+  for (std::size_t i = 0; i < md.vert.size(); ++i) md.vert[i].P().Import(mf.vert[i].P());
+  const auto rd = Quality::Compute(md);
+  const auto rf = molremesh::MeshQuality<MeshF>::Compute(mf);
+  EXPECT_EQ(rf.faces, rd.faces);
+  EXPECT_EQ(rf.edges, rd.edges);
+  EXPECT_EQ(rf.genus, rd.genus);
+  EXPECT_EQ(rf.valenceHistogram, rd.valenceHistogram);
+  EXPECT_DOUBLE_EQ(rf.qMin, rd.qMin);
+  EXPECT_DOUBLE_EQ(rf.angleMin, rd.angleMin);
+  EXPECT_DOUBLE_EQ(rf.area, rd.area);
+  EXPECT_DOUBLE_EQ(rf.volume, rd.volume);
+  EXPECT_EQ(rf.selfIntersectingPairs, rd.selfIntersectingPairs);
+  const auto angles = molremesh::MeshQuality<MeshF>::FaceAngles(mf.face[0]);
+  EXPECT_DOUBLE_EQ(angles.min(), Quality::FaceAngles(md.face[0]).min());
+}
+
+// ----------------------------------------------------------------------------------------------
+// A real molecular surface
+// ----------------------------------------------------------------------------------------------
+
+TEST(MeshQuality, RealMoleculeBptiMsms) {
+  const char* path = MOLREMESH_SHARED_DATA_DIR "/meshes/bpti_1bpi_msms.ply";
+  if (!std::ifstream(path).good()) GTEST_SKIP() << "missing " << path;
+  MeshD m;
+  ASSERT_EQ(vcg::tri::io::ImporterPLY<MeshD>::Open(m, path), 0) << path;
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.faces, std::size_t(m.fn));
+  EXPECT_EQ(r.boundaryEdges, 0u);
+  EXPECT_EQ(r.nonManifoldEdges, 0u);
+  EXPECT_EQ(r.nonManifoldVertices, 0u);
+  EXPECT_GE(r.components, 1u);
+  EXPECT_GE(r.genus, 0);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  EXPECT_GT(r.area, 0.0);
+  EXPECT_GT(r.volume, 0.0); // outward orientation
+  EXPECT_EQ(SumHistogram(r), int(r.interiorVertices));
+  for (const auto& c : r.componentInfo) EXPECT_TRUE(c.closed);
+}
+
+} // namespace
