@@ -467,13 +467,15 @@ TEST(MeshQuality, TetrahedraTouchingAtOneVertex) {
   EXPECT_EQ(r.unreferencedVertices, 1u); // the welded-away vertex 4
   EXPECT_EQ(r.referencedVertices, 7u);
   EXPECT_EQ(r.components, 2u); // vertex contact does not join components
+  // Each component on its own is a closed manifold: the pinch is where two components touch.
   for (const auto& c : r.componentInfo) {
     EXPECT_EQ(c.faces, 4u);
-    EXPECT_FALSE(c.manifold);
-    EXPECT_EQ(c.genus, -1);
+    EXPECT_TRUE(c.manifold);
+    EXPECT_TRUE(c.closed);
     EXPECT_EQ(c.euler, 2);
+    EXPECT_EQ(c.genus, 0);
   }
-  EXPECT_EQ(r.genus, -1);
+  EXPECT_EQ(r.genus, 0);
   EXPECT_EQ(r.euler, 7 - 12 + 8);
   EXPECT_FALSE(r.isTwoManifold());
   // The two tetrahedra only touch at the shared vertex.
@@ -491,8 +493,30 @@ TEST(MeshQuality, BowtieKeepsBothBoundaryLoops) {
   EXPECT_EQ(r.components, 2u);
   EXPECT_EQ(r.boundaryEdges, 6u);
   EXPECT_EQ(r.boundaryLoops, 2u);
-  EXPECT_EQ(r.genus, -1);
+  EXPECT_EQ(r.genus, 0); // two disks
   EXPECT_EQ(r.adjacentOverlapPairs, 0u);
+}
+
+TEST(MeshQuality, PinchWithinOneComponent) {
+  // A 2 x 2 grid whose opposite corners (2,0) and (0,2) (off the split diagonal, so no edge is
+  // duplicated) are welded: the welded vertex has two fans of the same component, so that
+  // component is not a manifold and has no genus.
+  MeshD m;
+  MakeGrid(m, 2);
+  for (auto& f : m.face)
+    for (int i = 0; i < 3; ++i)
+      if (f.V(i) == &m.vert[6]) f.V(i) = &m.vert[2];
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.nonManifoldVertices, 1u);
+  EXPECT_EQ(r.nonManifoldEdges, 0u);
+  EXPECT_EQ(r.unreferencedVertices, 1u);
+  ASSERT_EQ(r.components, 1u);
+  EXPECT_FALSE(r.componentInfo[0].manifold);
+  EXPECT_EQ(r.componentInfo[0].genus, -1);
+  EXPECT_EQ(r.genus, -1);
+  EXPECT_EQ(r.boundaryEdges, 8u);
+  EXPECT_EQ(r.boundaryLoops, 1u); // each fan pairs its own two boundary edges
+  EXPECT_TRUE(Quality::VertexOnBorder(m)[2]);
 }
 
 // ----------------------------------------------------------------------------------------------
@@ -593,11 +617,29 @@ TEST(MeshQuality, OverlappingSpheresIntersect) {
   EXPECT_GT(r.selfIntersectingFaces, 50u);
 }
 
+TEST(MeshQuality, FarOutlierVertexKeepsTheGridUseful) {
+  // One vertex sent 1e12 away: its six faces become huge slivers reaching back to the sphere. They
+  // must neither make every other face "degenerate" (a mean-edge threshold would) nor coarsen the
+  // grid until the whole sphere falls in one cell (quadratic): they are tested on their own.
+  MeshD m;
+  MakeIcosphere(m, 6); // 81920 faces
+  const Point away = m.vert[0].P() * 1e12;
+  m.vert[0].P() = away;
+  const auto r = Quality::Compute(m);
+  EXPECT_EQ(r.faces, 81920u);
+  EXPECT_EQ(r.degenerateFaces, 0u); // the median edge length is not fooled by the outlier
+  EXPECT_GT(r.meanEdgeLength, 1e6);
+  EXPECT_LT(r.medianEdgeLength, 0.1);
+  EXPECT_EQ(r.boundaryEdges, 0u);
+  EXPECT_EQ(r.genus, 0);
+  EXPECT_EQ(r.selfIntersectingPairs, 0u);
+  EXPECT_EQ(r.adjacentOverlapPairs, 0u);
+}
+
 /// Counts by brute force with the same predicates, to check the grid neither misses nor repeats.
 std::array<std::size_t, 2> BruteForceIntersections(const MeshD& m) {
   namespace qd = molremesh::quality_detail;
   std::array<std::size_t, 2> counts{0, 0};
-  const double tol = 1e-12;
   for (std::size_t i = 0; i < m.face.size(); ++i)
     for (std::size_t j = i + 1; j < m.face.size(); ++j) {
       const auto& a = m.face[i];
@@ -608,8 +650,8 @@ std::array<std::size_t, 2> BruteForceIntersections(const MeshD& m) {
           if (a.cV(u) == b.cV(w)) ++shared, ca = u, cb = w;
       const auto ta = qd::MakePlanarTriangle(a.cP(0), a.cP(1), a.cP(2));
       const auto tb = qd::MakePlanarTriangle(b.cP(0), b.cP(1), b.cP(2));
-      if (shared == 0 && qd::TrianglesIntersect(ta, tb, tol)) ++counts[0];
-      if (shared == 1 && qd::SharedCornerOverlap(ta, ca, tb, cb, tol)) ++counts[1];
+      if (shared == 0 && qd::TrianglesIntersect(ta, tb)) ++counts[0];
+      if (shared == 1 && qd::SharedCornerOverlap(ta, ca, tb, cb)) ++counts[1];
     }
   return counts;
 }
@@ -655,6 +697,49 @@ TEST(MeshQuality, GridCountsMatchBruteForce) {
   const auto again = Quality::Compute(m);
   EXPECT_EQ(again.selfIntersectingPairs, r.selfIntersectingPairs);
   EXPECT_EQ(again.adjacentOverlapPairs, r.adjacentOverlapPairs);
+}
+
+TEST(MeshQuality, OversizedFacesMatchBruteForce) {
+  // Big tilted triangles slicing a fine sphere span hundreds of grid cells, so they take the
+  // "oversized" path (tested against every face); two of them also cross each other.
+  MeshD m;
+  MakeIcosphere(m, 4);
+  MeshD big;
+  MakeMesh(big, {{-1.5, -1.5, -0.3}, {1.5, -1.5, 0.3}, {0, 1.5, 0},
+                 {-1.5, 0.2, -1.5}, {1.5, -0.2, -1.5}, {0, 0.1, 1.5},
+                 {-1.4, -1.4, 1.0}, {1.4, 1.4, 1.0}, {0, 0, -1.2}},
+           {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}});
+  vcg::tri::Append<MeshD, MeshD>::Mesh(m, big);
+  const auto r = Quality::Compute(m);
+  const auto brute = BruteForceIntersections(m);
+  EXPECT_GT(brute[0], 100u);
+  EXPECT_EQ(r.selfIntersectingPairs, brute[0]);
+  EXPECT_EQ(r.adjacentOverlapPairs, brute[1]);
+}
+
+TEST(MeshQuality, AliasedGridCellsDoNotRepeatPairs) {
+  // Cell keys wrap every 2^21 cells per axis. Two self-intersecting copies exactly 2^21 cells
+  // apart share their cell keys; each of their pairs must still be counted exactly once.
+  MeshD single;
+  MakeIcosphere(single, 2);
+  single.vert[0].P() = -single.vert[0].P() * 1.3; // dent through the far side
+  const auto one = Quality::Compute(single);
+  ASSERT_GT(one.selfIntersectingPairs, 0u);
+  const double cell = 2 * one.medianEdgeLength; // the grid's cell size (translation-invariant)
+  MeshD pair;
+  MakeIcosphere(pair, 2);
+  pair.vert[0].P() = -pair.vert[0].P() * 1.3;
+  MeshD copy;
+  MakeIcosphere(copy, 2);
+  copy.vert[0].P() = -copy.vert[0].P() * 1.3;
+  for (auto& v : copy.vert) v.P() += Point(std::ldexp(cell, 21), 0, 0);
+  vcg::tri::Append<MeshD, MeshD>::Mesh(pair, copy);
+  const auto two = Quality::Compute(pair);
+  EXPECT_EQ(two.selfIntersectingPairs, 2 * one.selfIntersectingPairs);
+  EXPECT_EQ(two.adjacentOverlapPairs, 2 * one.adjacentOverlapPairs);
+  const auto brute = BruteForceIntersections(pair);
+  EXPECT_EQ(two.selfIntersectingPairs, brute[0]);
+  EXPECT_EQ(two.adjacentOverlapPairs, brute[1]);
 }
 
 // ----------------------------------------------------------------------------------------------

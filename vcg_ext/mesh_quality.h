@@ -12,10 +12,14 @@
 //    `degenerateFaces` but takes no part in the topology (edges, Euler, components, boundary,
 //    manifoldness), because it is not a 2-simplex. Every other face is a "proper" face.
 //  - A face is degenerate when it is index-degenerate, has a non-finite corner, or its area is
-//    <= degenerateAreaEpsilon * (mean edge length)^2. Degenerate faces count as angles
+//    <= degenerateAreaEpsilon * (median edge length)^2. The median, not the mean: one vertex sent
+//    far away would inflate the mean enough to call every face of the mesh degenerate. Degenerate faces count as angles
 //    {0, 0, 180}, Q = 0, AR = +inf and are left out of area, volume and self-intersections.
 //  - Components are connected through shared edges: faces touching only at a vertex belong to
-//    different components (that vertex is then reported as non-manifold).
+//    different components. That vertex is a non-manifold vertex of the mesh, but each component
+//    is judged on its own: it is non-manifold only if it has a non-manifold edge or holds two or
+//    more fans of one vertex. So two closed spheres touching at a point report
+//    nonManifoldVertices = 1 (isTwoManifold() false) yet genus 0 + 0.
 //  - A non-manifold vertex is one whose incident faces form more than one fan, fans being joined
 //    through the manifold (two-face) edges at the vertex. As in vcglib's
 //    Clean::CountNonManifoldVertexFF, vertices on a non-manifold edge are not counted again as
@@ -51,7 +55,8 @@ struct TriangleAngles {
 struct ComponentInfo {
   std::size_t faces = 0;
   std::size_t boundaryEdges = 0;
-  bool manifold = true; ///< no non-manifold edge or vertex in the component
+  bool manifold = true; ///< no non-manifold edge or vertex in the component on its own: a vertex
+                        ///< where different components touch (one fan each) does not count
   bool closed = false;  ///< manifold and no boundary edge
   int euler = 0;        ///< V - E + F of the component
   int genus = -1;       ///< (2 - euler - boundary loops) / 2; -1 when not manifold (or not orientable:
@@ -89,7 +94,8 @@ struct QualityReport {
   // Geometry
   double area = 0;   ///< total surface area
   double volume = 0; ///< signed enclosed volume (divergence theorem); meaningful when closed
-  double meanEdgeLength = 0; ///< mean length of the distinct edges with finite end points
+  double meanEdgeLength = 0;   ///< mean length of the distinct edges with finite end points
+  double medianEdgeLength = 0; ///< median of the same lengths (the scale of degenerateAreaEpsilon)
 
   // Topology and validity
   int euler = 0;                      ///< V - E + F over referenced vertices
@@ -117,7 +123,7 @@ public:
     double obtuseAngle = 90.0;           ///< degrees; faces whose max angle is >= it are obtuse
     double largeAngle = 120.0;           ///< degrees; faces with an angle above it are "large"
     bool computeSelfIntersections = true;///< the only super-linear part; grid accelerated
-    double degenerateAreaEpsilon = 1e-12;///< relative to squared mean edge length
+    double degenerateAreaEpsilon = 1e-12;///< relative to squared median edge length
   };
 
   /// Measures m. m is not modified; deleted elements are skipped.
@@ -216,8 +222,8 @@ inline TriangleShape ShapeOf(const Point& p0, const Point& p1, const Point& p2, 
 //
 // Both tests reduce to "closed segment meets closed triangle": two triangles meet iff an edge of
 // one meets the other (the intersection is convex and its extreme points lie on edges). Plane
-// sides are computed as signed distances snapped to 0 within `tol`, so that exactly coplanar
-// inputs (flat patches) take the 2D branch instead of a numerically meaningless line crossing.
+// sides are signed distances snapped to 0 within rounding noise, so that exactly coplanar inputs
+// (flat patches) take the 2D branch instead of a numerically meaningless line crossing.
 
 /// Triangle with its plane and the axis dropped to project it to 2D.
 struct PlanarTriangle {
@@ -268,15 +274,29 @@ inline bool SegmentsMeet2D(const Point& p, const Point& q, const Point& a, const
   return true;
 }
 
-/// Signed distance of x from the plane of t, snapped to 0 within tol.
-inline double PlaneDistance(const PlanarTriangle& t, const Point& x, double tol) {
-  const double d = t.unitNormal * (x - t.p[0]);
+inline double MaxAbs(const Point& p) { return std::max({std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])}); }
+
+/// Signed distance of x from the plane of t, snapped to 0 when it is within rounding noise, so
+/// that exactly coplanar inputs (flat patches) take the 2D branch. It is measured from the corner
+/// nearest to x: measuring from a far corner (a fan around a vertex sent far away) would lose to
+/// cancellation all the digits that tell neighbouring faces apart. The snap threshold scales with
+/// the magnitude of the coordinates involved, which bounds their rounding error; erring small
+/// is safe (a missed snap only costs the exact 2D answer, never invents an intersection).
+inline double PlaneDistance(const PlanarTriangle& t, const Point& x) {
+  int nearest = 0;
+  double best = (x - t.p[0]).SquaredNorm();
+  for (int k = 1; k < 3; ++k) {
+    const double d2 = (x - t.p[k]).SquaredNorm();
+    if (d2 < best) best = d2, nearest = k;
+  }
+  const double d = t.unitNormal * (x - t.p[nearest]);
+  const double tol = 1e-13 * (MaxAbs(x) + MaxAbs(t.p[nearest]));
   return std::fabs(d) <= tol ? 0.0 : d;
 }
 
 /// Closed segment pq against closed triangle t.
-inline bool SegmentMeetsTriangle(const Point& p, const Point& q, const PlanarTriangle& t, double tol) {
-  const double dp = PlaneDistance(t, p, tol), dq = PlaneDistance(t, q, tol);
+inline bool SegmentMeetsTriangle(const Point& p, const Point& q, const PlanarTriangle& t) {
+  const double dp = PlaneDistance(t, p), dq = PlaneDistance(t, q);
   if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0)) return false;
   if (dp == 0 && dq == 0) {
     if (PointInTriangle2D(t, p) || PointInTriangle2D(t, q)) return true;
@@ -290,19 +310,19 @@ inline bool SegmentMeetsTriangle(const Point& p, const Point& q, const PlanarTri
 }
 
 /// True when every vertex of `other` is strictly on the same side of t's plane.
-inline bool StrictlyOnOneSide(const PlanarTriangle& t, const PlanarTriangle& other, double tol) {
-  const double d0 = PlaneDistance(t, other.p[0], tol);
-  const double d1 = PlaneDistance(t, other.p[1], tol);
-  const double d2 = PlaneDistance(t, other.p[2], tol);
+inline bool StrictlyOnOneSide(const PlanarTriangle& t, const PlanarTriangle& other) {
+  const double d0 = PlaneDistance(t, other.p[0]);
+  const double d1 = PlaneDistance(t, other.p[1]);
+  const double d2 = PlaneDistance(t, other.p[2]);
   return (d0 > 0 && d1 > 0 && d2 > 0) || (d0 < 0 && d1 < 0 && d2 < 0);
 }
 
 /// Closed triangle/triangle intersection (for faces sharing no vertex).
-inline bool TrianglesIntersect(const PlanarTriangle& a, const PlanarTriangle& b, double tol) {
-  if (StrictlyOnOneSide(a, b, tol) || StrictlyOnOneSide(b, a, tol)) return false;
+inline bool TrianglesIntersect(const PlanarTriangle& a, const PlanarTriangle& b) {
+  if (StrictlyOnOneSide(a, b) || StrictlyOnOneSide(b, a)) return false;
   for (int i = 0; i < 3; ++i) {
-    if (SegmentMeetsTriangle(b.p[i], b.p[(i + 1) % 3], a, tol)) return true;
-    if (SegmentMeetsTriangle(a.p[i], a.p[(i + 1) % 3], b, tol)) return true;
+    if (SegmentMeetsTriangle(b.p[i], b.p[(i + 1) % 3], a)) return true;
+    if (SegmentMeetsTriangle(a.p[i], a.p[(i + 1) % 3], b)) return true;
   }
   return false;
 }
@@ -311,9 +331,9 @@ inline bool TrianglesIntersect(const PlanarTriangle& a, const PlanarTriangle& b,
 /// Their intersection is a convex set containing the shared corner; it holds another point iff
 /// the edge opposite the shared corner of one triangle meets the other (that edge does not
 /// contain the shared corner, so the trivial contact is never reported).
-inline bool SharedCornerOverlap(const PlanarTriangle& a, int ca, const PlanarTriangle& b, int cb, double tol) {
-  return SegmentMeetsTriangle(a.p[(ca + 1) % 3], a.p[(ca + 2) % 3], b, tol) ||
-         SegmentMeetsTriangle(b.p[(cb + 1) % 3], b.p[(cb + 2) % 3], a, tol);
+inline bool SharedCornerOverlap(const PlanarTriangle& a, int ca, const PlanarTriangle& b, int cb) {
+  return SegmentMeetsTriangle(a.p[(ca + 1) % 3], a.p[(ca + 2) % 3], b) ||
+         SegmentMeetsTriangle(b.p[(cb + 1) % 3], b.p[(cb + 2) % 3], a);
 }
 
 // --- Topology ------------------------------------------------------------------------------------
@@ -445,11 +465,18 @@ struct IntersectionCounts {
   std::size_t faces = 0;         ///< faces in at least one such pair
 };
 
-/// Counts intersecting pairs among the given (non-degenerate, finite) triangles with a uniform
-/// grid over their bounding boxes. Each candidate pair is tested once: in the grid cell holding
-/// the lowest corner of the overlap of the two cell ranges, so no pair set is needed.
+/// Counts intersecting pairs among the given (non-degenerate, finite) triangles.
+///
+/// Broad phase: a uniform grid of cells two median edge lengths wide (the median, unlike the
+/// mean, is not inflated by a few huge faces). Cells are hashed by wrapping their integer
+/// coordinates to 21 bits per axis, so any extent fits in a 63-bit key; faces spanning more than
+/// kMaxSpan cells ("oversized", e.g. the fan of one vertex sent far away) are not hashed but
+/// tested against every face, and the cell size doubles while that or the hashed entries would
+/// cost too much. Each pair is tested once, in the cell holding the lowest corner of the overlap
+/// of the two cell ranges (no pair set needed; aliased cells cannot repeat a pair because a
+/// hashed face spans fewer than 2^21 cells per axis). Sequential, hence deterministic.
 inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
-                                                 const std::vector<Point>& points, double meanEdge) {
+                                                 const std::vector<Point>& points, double medianEdge) {
   IntersectionCounts result;
   const std::size_t n = tris.size();
   if (n < 2) return result;
@@ -460,88 +487,93 @@ inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<In
     for (Index v : tris[i]) boxes[i].Add(points[v]);
     all.Add(boxes[i]);
   }
-  const Point extent = all.Dim();
-  const double maxAbs = std::max({std::fabs(all.min[0]), std::fabs(all.min[1]), std::fabs(all.min[2]),
-                                  std::fabs(all.max[0]), std::fabs(all.max[1]), std::fabs(all.max[2])});
-  // Snap distance for the plane-side tests: far above the rounding error of coordinates of that
-  // magnitude, far below any feature of a real mesh.
-  const double tol = 1e-12 * (maxAbs + meanEdge);
 
-  // Cell size about two mean edges, so a face spans few cells and a cell holds few faces; grown
-  // when the grid would be too large (a few huge faces, or a very sparse point set).
-  double cell = 2.0 * meanEdge;
-  const double maxExtent = std::max({extent[0], extent[1], extent[2]});
+  constexpr double kMaxSpan = 512;          // cells a hashed face may cover
+  constexpr int kAxisBits = 21;             // 3 * 21 bits of cell key
+  constexpr std::int64_t kAxisMask = (std::int64_t(1) << kAxisBits) - 1;
+  const double maxExtent = std::max({all.DimX(), all.DimY(), all.DimZ()});
+  double cell = 2.0 * medianEdge;
   if (!(cell > 0) || !std::isfinite(cell)) cell = maxExtent > 0 ? maxExtent : 1.0;
-  const std::uint64_t maxEntries = 64 * std::uint64_t(n) + (std::uint64_t(1) << 20);
-  std::array<std::uint64_t, 3> dims{};
-  std::vector<std::array<std::uint32_t, 6>> range(n); // lo x,y,z, hi x,y,z
+  const std::uint64_t budget = 32 * std::uint64_t(n) + (std::uint64_t(1) << 20);
+
+  std::vector<std::array<std::int64_t, 3>> low(n); // lowest cell of each face, unwrapped
+  std::vector<std::array<std::int64_t, 3>> high(n);
+  std::vector<bool> oversized(n, false);
+  std::vector<Index> oversizedList;
+  std::uint64_t entries = 0;
   for (;;) {
-    bool tooMany = false;
-    for (int a = 0; a < 3; ++a) {
-      const double cells = std::floor(extent[a] / cell) + 1.0;
-      if (cells > double(1 << 20)) tooMany = true;
-      dims[a] = tooMany ? 1 : std::uint64_t(cells);
-    }
-    std::uint64_t entries = 0;
-    if (!tooMany) {
-      for (std::size_t i = 0; i < n && entries <= maxEntries; ++i) {
-        std::uint64_t spanned = 1;
-        for (int a = 0; a < 3; ++a) {
-          auto toCell = [&](double x) {
-            const double c = std::floor((x - all.min[a]) / cell);
-            return std::uint32_t(std::clamp(c, 0.0, double(dims[a] - 1)));
-          };
-          range[i][a] = toCell(boxes[i].min[a]);
-          range[i][a + 3] = toCell(boxes[i].max[a]);
-          spanned *= range[i][a + 3] - range[i][a] + 1;
-        }
-        entries += spanned;
+    entries = 0;
+    oversizedList.clear();
+    // Cell coordinates must stay far inside int64.
+    bool fits = maxExtent / cell < 1e15;
+    for (std::size_t i = 0; i < n && fits; ++i) {
+      double span = 1;
+      for (int a = 0; a < 3; ++a) {
+        low[i][a] = std::int64_t(std::floor((boxes[i].min[a] - all.min[a]) / cell));
+        high[i][a] = std::int64_t(std::floor((boxes[i].max[a] - all.min[a]) / cell));
+        span *= double(high[i][a] - low[i][a] + 1);
       }
+      oversized[i] = span > kMaxSpan;
+      if (oversized[i]) oversizedList.push_back(Index(i));
+      else entries += std::uint64_t(span);
     }
-    if (!tooMany && entries <= maxEntries) break;
+    if (fits && entries + std::uint64_t(oversizedList.size()) * n <= budget) break;
     cell *= 2.0;
   }
-
-  // (cell id, face) pairs sorted by cell: the "hash" of the uniform grid.
-  std::vector<std::pair<std::uint64_t, Index>> cellFaces;
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::uint64_t z = range[i][2]; z <= range[i][5]; ++z)
-      for (std::uint64_t y = range[i][1]; y <= range[i][4]; ++y)
-        for (std::uint64_t x = range[i][0]; x <= range[i][3]; ++x)
-          cellFaces.emplace_back((z * dims[1] + y) * dims[0] + x, Index(i));
-  std::sort(cellFaces.begin(), cellFaces.end());
 
   std::vector<PlanarTriangle> planar(n);
   for (std::size_t i = 0; i < n; ++i)
     planar[i] = MakePlanarTriangle(points[tris[i][0]], points[tris[i][1]], points[tris[i][2]]);
   std::vector<bool> involved(n, false);
 
+  auto testPair = [&](Index i, Index j) {
+    if (!BoxesTouch(boxes[i], boxes[j])) return;
+    int shared = 0, ci = -1, cj = -1;
+    for (int u = 0; u < 3; ++u)
+      for (int w = 0; w < 3; ++w)
+        if (tris[i][u] == tris[j][w]) ++shared, ci = u, cj = w;
+    if (shared > 1) return;
+    bool hit = false;
+    if (shared == 0 && TrianglesIntersect(planar[i], planar[j])) {
+      ++result.disjointPairs;
+      hit = true;
+    } else if (shared == 1 && SharedCornerOverlap(planar[i], ci, planar[j], cj)) {
+      ++result.adjacentPairs;
+      hit = true;
+    }
+    if (hit) involved[i] = involved[j] = true;
+  };
+
+  // Oversized faces against everything (each oversized pair once, from its lower index).
+  for (Index o : oversizedList)
+    for (Index j = 0; j < n; ++j)
+      if (j != o && (!oversized[j] || j > o)) testPair(o, j);
+
+  // Hashed faces: (wrapped cell key, face), sorted so each cell's faces are contiguous.
+  auto wrappedKey = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (std::uint64_t(z & kAxisMask) << (2 * kAxisBits)) | (std::uint64_t(y & kAxisMask) << kAxisBits) |
+           std::uint64_t(x & kAxisMask);
+  };
+  std::vector<std::pair<std::uint64_t, Index>> cellFaces;
+  cellFaces.reserve(entries);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (oversized[i]) continue;
+    for (std::int64_t z = low[i][2]; z <= high[i][2]; ++z)
+      for (std::int64_t y = low[i][1]; y <= high[i][1]; ++y)
+        for (std::int64_t x = low[i][0]; x <= high[i][0]; ++x) cellFaces.emplace_back(wrappedKey(x, y, z), Index(i));
+  }
+  std::sort(cellFaces.begin(), cellFaces.end());
+
   for (std::size_t begin = 0; begin < cellFaces.size();) {
     std::size_t end = begin;
     while (end < cellFaces.size() && cellFaces[end].first == cellFaces[begin].first) ++end;
-    const std::uint64_t id = cellFaces[begin].first;
-    const std::array<std::uint64_t, 3> cellXYZ{id % dims[0], (id / dims[0]) % dims[1], id / (dims[0] * dims[1])};
     for (std::size_t s = begin; s < end; ++s) {
       const Index i = cellFaces[s].second;
       for (std::size_t r = s + 1; r < end; ++r) {
         const Index j = cellFaces[r].second;
-        bool canonical = true;
-        for (int a = 0; a < 3 && canonical; ++a)
-          canonical = std::max(range[i][a], range[j][a]) == cellXYZ[a];
-        if (!canonical || !BoxesTouch(boxes[i], boxes[j])) continue;
-        int shared = 0, ci = -1, cj = -1;
-        for (int u = 0; u < 3; ++u)
-          for (int w = 0; w < 3; ++w)
-            if (tris[i][u] == tris[j][w]) ++shared, ci = u, cj = w;
-        bool hit = false;
-        if (shared == 0 && TrianglesIntersect(planar[i], planar[j], tol)) {
-          ++result.disjointPairs;
-          hit = true;
-        } else if (shared == 1 && SharedCornerOverlap(planar[i], ci, planar[j], cj, tol)) {
-          ++result.adjacentPairs;
-          hit = true;
-        }
-        if (hit) involved[i] = involved[j] = true;
+        const std::uint64_t canonical =
+            wrappedKey(std::max(low[i][0], low[j][0]), std::max(low[i][1], low[j][1]), std::max(low[i][2], low[j][2]));
+        if (canonical == cellFaces[begin].first) testPair(i, j);
       }
     }
     begin = end;
@@ -616,19 +648,42 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
   r.edges = ne;
 
   // --- Edges: boundary / non-manifold counts, mean length ------------------------------------
-  double edgeLengthSum = 0;
-  std::size_t finiteEdges = 0;
+  std::vector<double> edgeLengths;
+  edgeLengths.reserve(ne);
   for (std::size_t e = 0; e < ne; ++e) {
     const Index count = t.EdgeFaceCount(e);
     if (count == 1) ++r.boundaryEdges;
     if (count > 2) ++r.nonManifoldEdges;
     const Index a = t.EdgeV0(e), b = t.EdgeV1(e);
-    if (finite[a] && finite[b]) {
-      edgeLengthSum += (points[a] - points[b]).Norm();
-      ++finiteEdges;
-    }
+    if (finite[a] && finite[b]) edgeLengths.push_back((points[a] - points[b]).Norm());
   }
-  r.meanEdgeLength = finiteEdges > 0 ? edgeLengthSum / double(finiteEdges) : 0.0;
+  if (!edgeLengths.empty()) {
+    r.meanEdgeLength = std::accumulate(edgeLengths.begin(), edgeLengths.end(), 0.0) / double(edgeLengths.size());
+    const auto middle = edgeLengths.begin() + std::ptrdiff_t(edgeLengths.size() / 2);
+    std::nth_element(edgeLengths.begin(), middle, edgeLengths.end());
+    r.medianEdgeLength = *middle;
+  }
+  edgeLengths = std::vector<double>();
+
+  // --- Components through shared edges -------------------------------------------------------
+  UnionFind faceSets(nf);
+  for (std::size_t e = 0; e < ne; ++e)
+    for (Index k = t.edgeFaceStart[e] + 1; k < t.edgeFaceStart[e + 1]; ++k)
+      faceSets.Unite(t.edgeFaces[t.edgeFaceStart[e]], t.edgeFaces[k]);
+  // Numbered by their lowest face, which is also the union-find root.
+  std::vector<Index> componentOf(nf, kNoIndex);
+  std::vector<ComponentInfo> comps;
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (!t.proper[f]) continue;
+    const Index root = faceSets.Find(Index(f));
+    if (root == f) {
+      componentOf[f] = Index(comps.size());
+      comps.emplace_back();
+    } else {
+      componentOf[f] = componentOf[root];
+    }
+    ++comps[componentOf[f]].faces;
+  }
 
   // --- Vertex fans: non-manifold vertices and the pairing of boundary edges into loops ---------
   // At a vertex whose edges are all manifold or boundary, the incident faces split into fans
@@ -641,6 +696,7 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
   {
     std::vector<Index> localParent;
     std::vector<std::pair<Index, Index>> fanBoundary; // (fan root, boundary edge)
+    std::vector<Index> fanComponents;
     for (std::size_t v = 0; v < nv; ++v) {
       const Index fBegin = t.vertFaceStart[v], fEnd = t.vertFaceStart[v + 1];
       if (fBegin == fEnd) continue;
@@ -670,7 +726,17 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
       std::size_t fans = 0;
       for (Index i = 0; i < localParent.size(); ++i)
         if (find(i) == i) ++fans;
-      if (fans > 1) nonManifoldVertex[v] = true;
+      if (fans > 1) {
+        nonManifoldVertex[v] = true;
+        // Two fans of the same component make that component non-manifold; fans of different
+        // components only mean the components touch there (each is manifold on its own).
+        fanComponents.clear();
+        for (Index i = 0; i < localParent.size(); ++i)
+          if (find(i) == i) fanComponents.push_back(componentOf[t.vertFaces[fBegin + i]]);
+        std::sort(fanComponents.begin(), fanComponents.end());
+        for (std::size_t i = 1; i < fanComponents.size(); ++i)
+          if (fanComponents[i] == fanComponents[i - 1]) comps[fanComponents[i]].manifold = false;
+      }
       for (Index k = eBegin; k < eEnd; ++k) {
         const Index e = t.vertEdges[k];
         if (t.EdgeFaceCount(e) == 1) fanBoundary.emplace_back(find(local(t.edgeFaces[t.edgeFaceStart[e]])), e);
@@ -689,25 +755,6 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
   for (std::size_t v = 0; v < nv; ++v)
     if (nonManifoldVertex[v]) ++r.nonManifoldVertices;
 
-  // --- Components through shared edges -------------------------------------------------------
-  UnionFind faceSets(nf);
-  for (std::size_t e = 0; e < ne; ++e)
-    for (Index k = t.edgeFaceStart[e] + 1; k < t.edgeFaceStart[e + 1]; ++k)
-      faceSets.Unite(t.edgeFaces[t.edgeFaceStart[e]], t.edgeFaces[k]);
-  // Numbered by their lowest face, which is also the union-find root.
-  std::vector<Index> componentOf(nf, kNoIndex);
-  std::vector<ComponentInfo> comps;
-  for (std::size_t f = 0; f < nf; ++f) {
-    if (!t.proper[f]) continue;
-    const Index root = faceSets.Find(Index(f));
-    if (root == f) {
-      componentOf[f] = Index(comps.size());
-      comps.emplace_back();
-    } else {
-      componentOf[f] = componentOf[root];
-    }
-    ++comps[componentOf[f]].faces;
-  }
   std::vector<long long> compVertices(comps.size(), 0), compEdges(comps.size(), 0);
   for (std::size_t e = 0; e < ne; ++e) {
     const Index c = componentOf[t.edgeFaces[t.edgeFaceStart[e]]];
@@ -726,10 +773,7 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
       for (Index k = fBegin; k < fEnd; ++k) vertexComps.push_back(componentOf[t.vertFaces[k]]);
       std::sort(vertexComps.begin(), vertexComps.end());
       vertexComps.erase(std::unique(vertexComps.begin(), vertexComps.end()), vertexComps.end());
-      for (Index c : vertexComps) {
-        ++compVertices[c];
-        if (nonManifoldVertex[v]) comps[c].manifold = false;
-      }
+      for (Index c : vertexComps) ++compVertices[c];
     }
   }
   // Boundary loops: classes of linked boundary edges without a broken edge.
@@ -779,7 +823,7 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
     }
   if (centroidCount > 0) centroid /= double(centroidCount);
 
-  const double degenerateArea = params.degenerateAreaEpsilon * r.meanEdgeLength * r.meanEdgeLength;
+  const double degenerateArea = params.degenerateAreaEpsilon * r.medianEdgeLength * r.medianEdgeLength;
   const double infinity = std::numeric_limits<double>::infinity();
   double qSum = 0, minAngleSum = 0, arSum = 0, arSumNonDegenerate = 0, volumeSum = 0;
   r.qMin = infinity;
@@ -837,7 +881,7 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
 
   // --- Self-intersections ----------------------------------------------------------------------
   if (params.computeSelfIntersections) {
-    const IntersectionCounts counts = CountSelfIntersections(candidates, points, r.meanEdgeLength);
+    const IntersectionCounts counts = CountSelfIntersections(candidates, points, r.medianEdgeLength);
     r.selfIntersectingPairs = counts.disjointPairs;
     r.adjacentOverlapPairs = counts.adjacentPairs;
     r.selfIntersectingFaces = counts.faces;
