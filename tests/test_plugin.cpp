@@ -141,7 +141,11 @@ TEST_P(PluginBadInput, EveryFilterRefusesAndLeavesTheLayerUntouched) {
 
 INSTANTIATE_TEST_SUITE_P(Inputs, PluginBadInput,
                          ::testing::Values(BadInputCase{"", "empty"}, BadInputCase{"point_cloud.ply", "point cloud"},
-                                           BadInputCase{"nan_vertex.ply", "NaN"}));
+                                           BadInputCase{"nan_vertex.ply", "NaN"}),
+                         [](const auto& testParam) {
+                           const std::string file = testParam.param.fixture;
+                           return file.empty() ? std::string("empty_layer") : file.substr(0, file.find('.'));
+                         });
 
 TEST_F(PluginTest, ReportOnNonManifoldAndDegenerateInputChangesNothing) {
   for (const char* fixture : {"nonmanifold_fan.ply", "degenerate_faces.ply"}) {
