@@ -1,0 +1,795 @@
+// Stage 0, CleanRawMesh: constructed defects with known answers, refusals that leave the mesh
+// untouched, a float mesh with optional components (as MeshLab's CMeshO), and the real molecular
+// meshes of ../shared/data (the two large ones only in a manual run: --gtest_also_run_disabled_tests).
+#include <gtest/gtest.h>
+
+#include <vcg_ext/clean_raw_mesh.h>
+#include <vcg_ext/mesh_io.h>
+#include <vcg_ext/mesh_quality.h>
+#include <vcg_ext/mesh_types.h>
+
+#include <vcg/complex/algorithms/create/platonic.h>
+
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include "test_helpers.h"
+
+namespace {
+
+using molremesh::MeshD;
+using Clean = molremesh::CleanRawMesh<MeshD>;
+using Quality = molremesh::MeshQuality<MeshD>;
+using Point = vcg::Point3d;
+
+// A float mesh laid out like MeshLab's CMeshO: optional (OCF) adjacency, mark, color, quality.
+class VertexO;
+class EdgeO;
+class FaceO;
+struct UsedTypesO : public vcg::UsedTypes<vcg::Use<VertexO>::AsVertexType, vcg::Use<EdgeO>::AsEdgeType,
+                                          vcg::Use<FaceO>::AsFaceType> {};
+class VertexO : public vcg::Vertex<UsedTypesO, vcg::vertex::InfoOcf, vcg::vertex::Coord3f, vcg::vertex::BitFlags,
+                                   vcg::vertex::Normal3f, vcg::vertex::Qualityf, vcg::vertex::Color4b,
+                                   vcg::vertex::VFAdjOcf, vcg::vertex::MarkOcf> {};
+class EdgeO : public vcg::Edge<UsedTypesO, vcg::edge::BitFlags, vcg::edge::EVAdj, vcg::edge::EEAdj> {};
+class FaceO : public vcg::Face<UsedTypesO, vcg::face::InfoOcf, vcg::face::VertexRef, vcg::face::BitFlags,
+                               vcg::face::Normal3f, vcg::face::QualityfOcf, vcg::face::MarkOcf,
+                               vcg::face::Color4bOcf, vcg::face::FFAdjOcf, vcg::face::VFAdjOcf> {};
+class MeshO : public vcg::tri::TriMesh<vcg::vertex::vector_ocf<VertexO>, vcg::face::vector_ocf<FaceO>> {};
+
+void EnableAdjacency(MeshO& m) {
+  m.vert.EnableVFAdjacency();
+  m.face.EnableVFAdjacency();
+  m.face.EnableFFAdjacency();
+}
+
+/// Unit icosphere (vcglib's Sphere: 20 * 4^subdiv faces, closed, genus 0, outward).
+void MakeSphere(MeshD& m, int subdiv = 2) {
+  m.Clear();
+  vcg::tri::Sphere(m, subdiv);
+  vcg::tri::Allocator<MeshD>::CompactEveryVector(m);
+}
+
+/// Mesh from explicit points and index triples.
+void Build(MeshD& m, const std::vector<Point>& points, const std::vector<std::array<int, 3>>& faces) {
+  m.Clear();
+  vcg::tri::Allocator<MeshD>::AddVertices(m, points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) m.vert[i].P() = points[i];
+  for (const auto& f : faces) vcg::tri::Allocator<MeshD>::AddFace(m, f[0], f[1], f[2]);
+}
+
+/// Copies a mesh as points + index triples (vcg meshes cannot be copied).
+struct Soup {
+  std::vector<Point> points;
+  std::vector<std::array<int, 3>> faces;
+};
+Soup ToSoup(const MeshD& m) {
+  Soup s;
+  for (const auto& v : m.vert) s.points.push_back(v.cP());
+  for (const auto& f : m.face)
+    if (!f.IsD())
+      s.faces.push_back({int(vcg::tri::Index(m, f.cV(0))), int(vcg::tri::Index(m, f.cV(1))),
+                         int(vcg::tri::Index(m, f.cV(2)))});
+  return s;
+}
+
+/// The other face on edge (a, b) of face f, and its vertex opposite that edge.
+std::pair<int, int> Across(const Soup& s, int f, int a, int b) {
+  for (std::size_t i = 0; i < s.faces.size(); ++i) {
+    if (int(i) == f) continue;
+    const auto& t = s.faces[i];
+    for (int k = 0; k < 3; ++k)
+      if (t[k] == b && t[(k + 1) % 3] == a) return {int(i), t[(k + 2) % 3]};
+  }
+  return {-1, -1};
+}
+
+std::set<std::tuple<double, double, double>> Positions(const MeshD& m) {
+  std::set<std::tuple<double, double, double>> s;
+  for (const auto& v : m.vert)
+    if (!v.IsD()) s.insert({v.cP()[0], v.cP()[1], v.cP()[2]});
+  return s;
+}
+
+/// The guarantees every successful Do() gives, whatever the input.
+void ExpectValidResult(const MeshD& m, const molremesh::CleanRawMeshResult& r) {
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(m.vert.size(), std::size_t(m.vn)) << "vertex vector not compact";
+  EXPECT_EQ(m.face.size(), std::size_t(m.fn)) << "face vector not compact";
+  const molremesh::QualityReport q = Quality::Compute(m);
+  EXPECT_EQ(q.nonManifoldEdges, 0u);
+  EXPECT_EQ(q.nonManifoldVertices, 0u);
+  EXPECT_EQ(q.degenerateFaces, 0u);
+  EXPECT_EQ(q.unreferencedVertices, 0u);
+  EXPECT_EQ(r.nonManifoldEdgesAfter, 0u);
+  EXPECT_EQ(r.nonManifoldVerticesAfter, 0u);
+  EXPECT_EQ(r.degenerateFacesAfter, 0u);
+  EXPECT_EQ(r.facesAfter, std::size_t(m.fn));
+  EXPECT_EQ(r.verticesAfter, std::size_t(m.vn));
+  EXPECT_TRUE(vcg::tri::Clean<MeshD>::IsCoherentlyOrientedMesh(const_cast<MeshD&>(m)));
+}
+
+// ------------------------------------------------------------------------------------------------
+// Constructed defects
+// ------------------------------------------------------------------------------------------------
+
+TEST(CleanRawMesh, CleanSphereIsLeftExactlyAsItWas) {
+  MeshD m;
+  MakeSphere(m);
+  const Soup before = ToSoup(m);
+  const auto r = Clean::Do(m);
+  ExpectValidResult(m, r);
+  const Soup after = ToSoup(m);
+  EXPECT_EQ(after.points, before.points);
+  EXPECT_EQ(after.faces, before.faces);
+  EXPECT_EQ(r.mergedVertices + r.removedDuplicateFaces + r.removedDegenerateFaces + r.removedNonManifoldFaces +
+                r.splitNonManifoldVertices + r.flippedFacesForOrientation + r.closedHoles + r.removedSmallComponents,
+            0u);
+}
+
+TEST(CleanRawMesh, TriangleSoupIsWeldedIntoAClosedSphere) {
+  MeshD sphere;
+  MakeSphere(sphere);
+  const Soup s = ToSoup(sphere);
+  // Every face gets its own three vertices (as STL or a naive exporter would write them).
+  Soup soup;
+  for (const auto& f : s.faces) {
+    const int base = int(soup.points.size());
+    for (int k = 0; k < 3; ++k) soup.points.push_back(s.points[f[k]]);
+    soup.faces.push_back({base, base + 1, base + 2});
+  }
+  MeshD m;
+  Build(m, soup.points, soup.faces);
+  const auto inputPositions = Positions(m);
+  ASSERT_EQ(Quality::Compute(m).components, s.faces.size());
+
+  const auto r = Clean::Do(m);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.mergedVertices, soup.points.size() - s.points.size());
+  EXPECT_EQ(std::size_t(m.fn), s.faces.size());
+  const molremesh::QualityReport q = Quality::Compute(m);
+  EXPECT_EQ(q.boundaryEdges, 0u);
+  EXPECT_EQ(q.components, 1u);
+  EXPECT_EQ(q.genus, 0);
+  EXPECT_NEAR(q.volume, Quality::Compute(sphere).volume, 1e-12);
+  for (const auto& p : Positions(m)) EXPECT_TRUE(inputPositions.count(p)) << "a vertex moved";
+}
+
+TEST(CleanRawMesh, MergeToleranceIsRelativeToTheMeanEdgeLength) {
+  MeshD sphere;
+  MakeSphere(sphere);
+  const double meanEdge = Quality::Compute(sphere).meanEdgeLength;
+  for (const double offset : {1e-9, 1e-3}) {
+    Soup s = ToSoup(sphere);
+    // A copy of vertex 0, slightly displaced, takes over the faces of vertex 0 that come first.
+    s.points.push_back(s.points[0] + Point(offset * meanEdge, 0, 0));
+    const int copy = int(s.points.size()) - 1;
+    int moved = 0;
+    for (auto& f : s.faces)
+      for (int& v : f)
+        if (v == 0 && moved < 2) v = copy, ++moved;
+    MeshD m;
+    Build(m, s.points, s.faces);
+    const auto r = Clean::Do(m);
+    ASSERT_TRUE(r.ok) << r.message;
+    if (offset < 1e-6) {
+      EXPECT_EQ(r.mergedVertices, 1u) << "offset " << offset;
+      EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+      EXPECT_EQ(r.closedHoles, 0u);
+    } else {
+      EXPECT_EQ(r.mergedVertices, 0u) << "offset " << offset;
+    }
+    EXPECT_EQ(r.nonManifoldVerticesAfter, 0u);
+  }
+}
+
+TEST(CleanRawMesh, DuplicateFacesAreRemoved) {
+  MeshD sphere;
+  MakeSphere(sphere);
+  Soup s = ToSoup(sphere);
+  const std::size_t faces = s.faces.size();
+  s.faces.push_back(s.faces[0]);                                        // same orientation
+  s.faces.push_back({s.faces[5][0], s.faces[5][2], s.faces[5][1]});     // reversed
+  s.faces.push_back({s.faces[9][1], s.faces[9][2], s.faces[9][0]});     // rotated
+  MeshD m;
+  Build(m, s.points, s.faces);
+  const auto r = Clean::Do(m);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.removedDuplicateFaces, 3u);
+  EXPECT_EQ(std::size_t(m.fn), faces);
+  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+  EXPECT_EQ(r.genusAfter, 0);
+  EXPECT_EQ(r.flippedFacesForOrientation, 0u);
+}
+
+TEST(CleanRawMesh, ZeroAreaCapInsideAClosedMeshIsFlippedAwayAndTheMeshStaysClosed) {
+  MeshD sphere;
+  MakeSphere(sphere);
+  Soup s = ToSoup(sphere);
+  // Split face (a, b, x) at the midpoint c of ab without touching the face (b, a, y) across ab:
+  // the crack a-c-b is closed by the zero-area face (c, a, b), a cap whose vertex c lies on ab.
+  const int a = s.faces[0][0], b = s.faces[0][1], x = s.faces[0][2];
+  s.points.push_back((s.points[a] + s.points[b]) * 0.5);
+  const int c = int(s.points.size()) - 1;
+  s.faces[0] = {a, c, x};
+  s.faces.push_back({c, b, x});
+  s.faces.push_back({c, a, b});
+  MeshD m;
+  Build(m, s.points, s.faces);
+  const molremesh::QualityReport input = Quality::Compute(m);
+  ASSERT_EQ(input.degenerateFaces, 1u);
+  ASSERT_EQ(input.boundaryEdges, 0u);
+
+  const auto r = Clean::Do(m);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.flippedDegenerateFaces, 1u);
+  EXPECT_EQ(r.remainingDegenerateFaces, 0u);
+  EXPECT_EQ(std::size_t(m.fn), s.faces.size()); // a flip removes no face
+  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+  EXPECT_EQ(r.genusAfter, 0);
+  EXPECT_EQ(r.closedHoles, 0u);
+  EXPECT_NEAR(r.areaAfter, input.area, 1e-12);
+  EXPECT_NEAR(r.volumeAfter, input.volume, 1e-12);
+}
+
+TEST(CleanRawMesh, VanishingEdgeIsCollapsedWithoutMovingAnythingElse) {
+  MeshD sphere;
+  MakeSphere(sphere);
+  Soup s = ToSoup(sphere);
+  const std::size_t faces = s.faces.size();
+  // Split edge ab (both faces) at a point d that is 1e-14 away from a: the two faces at a become
+  // zero-area needles. With merging disabled the needles must be collapsed.
+  const int a = s.faces[0][0], b = s.faces[0][1], x = s.faces[0][2];
+  const auto [across, y] = Across(s, 0, a, b);
+  ASSERT_GE(across, 0);
+  s.points.push_back(s.points[a] + (s.points[b] - s.points[a]) * 1e-14);
+  const int d = int(s.points.size()) - 1;
+  s.faces[0] = {a, d, x};
+  s.faces.push_back({d, b, x});
+  s.faces[across] = {b, d, y};
+  s.faces.push_back({d, a, y});
+  for (const double tolerance : {0.0, 1e-6}) {
+    MeshD m;
+    Build(m, s.points, s.faces);
+    ASSERT_EQ(Quality::Compute(m).degenerateFaces, 2u);
+    const auto inputPositions = Positions(m);
+    Clean::Params params;
+    params.mergeTolerance = tolerance;
+    const auto r = Clean::Do(m, params);
+    ExpectValidResult(m, r);
+    EXPECT_EQ(std::size_t(m.fn), faces) << "tolerance " << tolerance;
+    EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+    EXPECT_EQ(r.genusAfter, 0);
+    EXPECT_EQ(r.removedDegenerateFaces, 2u);
+    if (tolerance == 0) {
+      EXPECT_EQ(r.collapsedDegenerateEdges, 1u);
+    } else {
+      EXPECT_EQ(r.mergedVertices, 1u);
+    }
+    for (const auto& p : Positions(m)) EXPECT_TRUE(inputPositions.count(p)) << "a vertex moved";
+  }
+}
+
+TEST(CleanRawMesh, FinOnAnEdgeIsRemovedAndTheSphereStaysClosed) {
+  MeshD sphere;
+  MakeSphere(sphere);
+  Soup s = ToSoup(sphere);
+  const std::size_t faces = s.faces.size();
+  const int a = s.faces[0][0], b = s.faces[0][1];
+  s.points.push_back((s.points[a] + s.points[b]) * 1.5); // outside the sphere
+  s.faces.push_back({a, b, int(s.points.size()) - 1});  // a third face on edge ab
+  MeshD m;
+  Build(m, s.points, s.faces);
+  ASSERT_EQ(Quality::Compute(m).nonManifoldEdges, 1u);
+  const auto r = Clean::Do(m);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.removedNonManifoldFaces, 1u);
+  EXPECT_EQ(std::size_t(m.fn), faces);
+  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+  EXPECT_EQ(r.genusAfter, 0);
+  EXPECT_EQ(r.removedOrphanedVertices, 1u);
+}
+
+TEST(CleanRawMesh, TwoTetrahedraSharingAnEdgeBecomeOneClosedManifold) {
+  // Two tetrahedra on either side of the plane y = 0, sharing only edge ab: four faces on one edge.
+  const std::vector<Point> points{Point(0, 0, 0),      Point(1, 0, 0),       Point(0.5, 1, 0.5),
+                                  Point(0.5, 1, -0.5), Point(0.5, -1, 0.5), Point(0.5, -1, -0.5)};
+  // Outward faces of tetra (0, 1, 2, 3) and of its mirror (0, 1, 4, 5).
+  const std::vector<std::array<int, 3>> faces{{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {0, 2, 3},
+                                              {0, 4, 1}, {0, 1, 5}, {1, 4, 5}, {0, 5, 4}};
+  MeshD m;
+  Build(m, points, faces);
+  const molremesh::QualityReport input = Quality::Compute(m);
+  ASSERT_EQ(input.nonManifoldEdges, 1u);
+  ASSERT_GT(input.volume, 0);
+  const auto r = Clean::Do(m);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.removedNonManifoldFaces, 2u); // the fewest: k - 2
+  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+  EXPECT_EQ(r.closedHoles, 1u);
+  EXPECT_EQ(r.genusAfter, 0);
+  EXPECT_GT(r.volumeAfter, 0);
+  EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
+}
+
+TEST(CleanRawMesh, SpheresTouchingAtAVertexAreSeparatedWithoutTouching) {
+  MeshD sphere;
+  MakeSphere(sphere);
+  Soup s = ToSoup(sphere);
+  const std::size_t n = s.points.size();
+  // A second sphere whose vertex 0 is glued onto vertex 0 of the first (tangent at one point).
+  const Point shift = s.points[0] * 2.0;
+  std::vector<int> map(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i == 0) {
+      map[i] = 0;
+      continue;
+    }
+    s.points.push_back(-s.points[i] + shift);
+    map[i] = int(s.points.size()) - 1;
+  }
+  const std::size_t faces = s.faces.size();
+  for (std::size_t f = 0; f < faces; ++f) s.faces.push_back({map[s.faces[f][0]], map[s.faces[f][2]], map[s.faces[f][1]]});
+  MeshD m;
+  Build(m, s.points, s.faces);
+  ASSERT_EQ(Quality::Compute(m).nonManifoldVertices, 1u);
+  const auto r = Clean::Do(m);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.splitNonManifoldVertices, 1u);
+  EXPECT_EQ(r.retriangulatedPinchFans, 1u); // otherwise the two copies would touch
+  EXPECT_EQ(r.touchingSplitVertices, 0u);
+  EXPECT_EQ(r.componentsAfter, 2u);
+  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+  EXPECT_EQ(r.genusAfter, 0);
+  EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
+}
+
+TEST(CleanRawMesh, BoundaryPinchIsClosedIntoOneManifoldFan) {
+  MeshD sphere;
+  MakeSphere(sphere);
+  Soup s = ToSoup(sphere);
+  // Remove two faces that touch only at vertex v: one hole loop passing twice through v.
+  const int v = s.faces[0][0];
+  std::vector<int> star;
+  for (std::size_t f = 0; f < s.faces.size(); ++f)
+    for (int k = 0; k < 3; ++k)
+      if (s.faces[f][k] == v) star.push_back(int(f));
+  ASSERT_GE(star.size(), 5u);
+  auto shareEdge = [&s](int f, int g) {
+    int shared = 0;
+    for (int a : s.faces[f])
+      for (int b : s.faces[g]) shared += a == b;
+    return shared == 2;
+  };
+  int other = -1;
+  for (int f : star)
+    if (f != star[0] && !shareEdge(f, star[0])) other = f;
+  ASSERT_GE(other, 0);
+  Soup t;
+  t.points = s.points;
+  for (std::size_t f = 0; f < s.faces.size(); ++f)
+    if (int(f) != star[0] && int(f) != other) t.faces.push_back(s.faces[f]);
+  MeshD m;
+  Build(m, t.points, t.faces);
+  const molremesh::QualityReport input = Quality::Compute(m);
+  ASSERT_EQ(input.nonManifoldVertices, 1u);
+  ASSERT_EQ(input.boundaryEdges, 6u);
+  const auto r = Clean::Do(m);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.closedHoles, 1u);
+  EXPECT_EQ(r.holeFacesAdded, 2u);
+  EXPECT_EQ(r.splitNonManifoldVertices, 0u);
+  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+  EXPECT_EQ(r.genusAfter, 0);
+  EXPECT_EQ(std::size_t(m.vn), s.points.size());
+}
+
+TEST(CleanRawMesh, InvertedFacesAreReorientedAndTheVolumeIsPositive) {
+  MeshD sphere;
+  MakeSphere(sphere);
+  const double volume = Quality::Compute(sphere).volume;
+  ASSERT_GT(volume, 0);
+  {
+    Soup s = ToSoup(sphere);
+    std::swap(s.faces[7][1], s.faces[7][2]);
+    MeshD m;
+    Build(m, s.points, s.faces);
+    const auto r = Clean::Do(m);
+    ExpectValidResult(m, r);
+    EXPECT_EQ(r.flippedFacesForOrientation, 1u);
+    EXPECT_NEAR(r.volumeAfter, volume, 1e-12);
+  }
+  {
+    // The seed face of the traversal inverted: the majority orientation must still win.
+    Soup s = ToSoup(sphere);
+    std::swap(s.faces[0][1], s.faces[0][2]);
+    MeshD m;
+    Build(m, s.points, s.faces);
+    const auto r = Clean::Do(m);
+    ExpectValidResult(m, r);
+    EXPECT_EQ(r.flippedFacesForOrientation, 1u);
+    EXPECT_NEAR(r.volumeAfter, volume, 1e-12);
+  }
+  {
+    // Everything inside out: the closed component is turned outward.
+    Soup s = ToSoup(sphere);
+    for (auto& f : s.faces) std::swap(f[1], f[2]);
+    MeshD m;
+    Build(m, s.points, s.faces);
+    const auto r = Clean::Do(m);
+    ExpectValidResult(m, r);
+    EXPECT_EQ(r.flippedComponents, 1u);
+    EXPECT_EQ(r.flippedFacesForOrientation, s.faces.size());
+    EXPECT_NEAR(r.volumeAfter, volume, 1e-12);
+  }
+}
+
+TEST(CleanRawMesh, CavityNormalsPointIntoTheCavity) {
+  MeshD outer, inner;
+  MakeSphere(outer);
+  MakeSphere(inner);
+  Soup s = ToSoup(outer);
+  const Soup t = ToSoup(inner);
+  const int offset = int(s.points.size());
+  for (const Point& p : t.points) s.points.push_back(p * 0.5);
+  for (const auto& f : t.faces) s.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset}); // outward: wrong for a cavity
+  Clean::Params params;
+  params.minComponentFraction = 0;
+  for (const bool inward : {true, false}) {
+    MeshD m;
+    Build(m, s.points, s.faces);
+    const double outerVolume = Quality::Compute(outer).volume;
+    params.orientCavitiesInward = inward;
+    const auto r = Clean::Do(m, params);
+    ExpectValidResult(m, r);
+    EXPECT_EQ(r.componentsAfter, 2u);
+    EXPECT_EQ(r.flippedComponents, inward ? 1u : 0u);
+    EXPECT_NEAR(r.volumeAfter, inward ? outerVolume * (1 - 0.125) : outerVolume * (1 + 0.125), 1e-9);
+  }
+}
+
+TEST(CleanRawMesh, SmallHoleIsClosedWithGenusZeroAndLargeHoleIsLeftOpen) {
+  MeshD sphere;
+  MakeSphere(sphere, 3);
+  const Soup s = ToSoup(sphere);
+  const double area = Quality::Compute(sphere).area;
+  // Remove the star of vertex 0 (a hole of 5 or 6 edges), or a cap of many faces.
+  for (const double capHeight : {-1.0, 0.8}) {
+    Soup t;
+    t.points = s.points;
+    for (const auto& f : s.faces) {
+      const bool inStar = f[0] == 0 || f[1] == 0 || f[2] == 0;
+      const bool inCap = capHeight > 0 && (s.points[f[0]][2] > capHeight || s.points[f[1]][2] > capHeight ||
+                                           s.points[f[2]][2] > capHeight);
+      if (!(capHeight < 0 ? inStar : inCap)) t.faces.push_back(f);
+    }
+    MeshD m;
+    Build(m, t.points, t.faces);
+    const molremesh::QualityReport input = Quality::Compute(m);
+    Clean::Params params;
+    params.maxHoleEdges = 20;
+    const auto r = Clean::Do(m, params);
+    ExpectValidResult(m, r);
+    if (capHeight < 0) {
+      ASSERT_LE(input.boundaryEdges, 6u);
+      EXPECT_EQ(r.closedHoles, 1u);
+      EXPECT_EQ(r.holeFacesAdded, input.boundaryEdges - 2);
+      EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+      EXPECT_EQ(r.genusAfter, 0);
+      EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
+      EXPECT_NEAR(r.areaAfter, area, 0.01 * area); // the flat patch is a little smaller than the cap
+      EXPECT_GT(r.volumeAfter, 0);
+    } else {
+      ASSERT_GT(input.boundaryEdges, 20u);
+      EXPECT_EQ(r.closedHoles, 0u);
+      EXPECT_EQ(r.unfilledHoles, 1u);
+      EXPECT_EQ(r.largestUnfilledHoleEdges, input.boundaryEdges);
+      EXPECT_EQ(r.boundaryEdgesAfter, input.boundaryEdges);
+    }
+  }
+}
+
+TEST(CleanRawMesh, TinyExtraComponentIsRemovedAndCounted) {
+  MeshD sphere;
+  MakeSphere(sphere, 3); // 1280 faces: a 4-face component is below 1%
+  Soup s = ToSoup(sphere);
+  const std::size_t faces = s.faces.size();
+  const int offset = int(s.points.size());
+  for (const Point& p : {Point(5, 5, 5), Point(5.1, 5, 5), Point(5, 5.1, 5), Point(5, 5, 5.1)}) s.points.push_back(p);
+  for (const auto& f : std::vector<std::array<int, 3>>{{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}})
+    s.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
+  for (const double fraction : {0.01, 0.0}) {
+    MeshD m;
+    Build(m, s.points, s.faces);
+    Clean::Params params;
+    params.minComponentFraction = fraction;
+    const auto r = Clean::Do(m, params);
+    ExpectValidResult(m, r);
+    if (fraction > 0) {
+      EXPECT_EQ(r.removedSmallComponents, 1u);
+      EXPECT_EQ(r.removedComponentFaces, 4u);
+      EXPECT_EQ(r.removedOrphanedVertices, 4u);
+      EXPECT_EQ(std::size_t(m.fn), faces);
+      EXPECT_EQ(r.componentsAfter, 1u);
+      EXPECT_NE(r.Summary().find("removed small components: 1"), std::string::npos);
+    } else {
+      EXPECT_EQ(r.removedSmallComponents, 0u);
+      EXPECT_EQ(r.componentsAfter, 2u);
+    }
+  }
+}
+
+TEST(CleanRawMesh, TheLargestComponentIsNeverRemoved) {
+  // Two equal tetrahedra: each is 50% of the faces, so a fraction of 0.9 would remove both.
+  MeshD m;
+  std::vector<Point> points;
+  std::vector<std::array<int, 3>> faces;
+  for (int t = 0; t < 2; ++t) {
+    const int o = int(points.size());
+    for (const Point& p : {Point(0, 0, 0), Point(1, 0, 0), Point(0, 1, 0), Point(0, 0, 1)})
+      points.push_back(p + Point(3.0 * t, 0, 0));
+    for (const auto& f : std::vector<std::array<int, 3>>{{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}})
+      faces.push_back({f[0] + o, f[1] + o, f[2] + o});
+  }
+  Build(m, points, faces);
+  Clean::Params params;
+  params.minComponentFraction = 0.9;
+  const auto r = Clean::Do(m, params);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.removedSmallComponents, 1u);
+  EXPECT_EQ(m.fn, 4);
+}
+
+TEST(CleanRawMesh, OpenFixturesStayOpenAndNothingIsFoldedOverThem) {
+  // nonmanifold_fan.ply: three faces on one edge, triangles touching at single vertices.
+  MeshD m;
+  std::string error;
+  ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::Fixture("nonmanifold_fan.ply"), error)) << error;
+  const auto r = Clean::Do(m);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.removedNonManifoldFaces, 1u);
+  EXPECT_EQ(r.closedHoles, 0u); // a cap on a flat sheet would fold onto it
+  EXPECT_EQ(r.splitNonManifoldVertices, 2u);
+  EXPECT_EQ(r.movedSplitVertices, 2u); // whole components: no fan to retriangulate
+  EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
+  EXPECT_GT(r.boundaryEdgesAfter, 0u);
+
+  // degenerate_faces.ply: a good triangle, a repeated-index face, an isolated collinear triangle.
+  MeshD d;
+  ASSERT_TRUE(molremesh::LoadMesh(d, molremesh::test::Fixture("degenerate_faces.ply"), error)) << error;
+  const auto rd = Clean::Do(d);
+  ExpectValidResult(d, rd);
+  EXPECT_EQ(d.fn, 1);
+  EXPECT_EQ(rd.removedDegenerateFaces, 2u);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Refusals: before anything changes
+// ------------------------------------------------------------------------------------------------
+
+void ExpectRefusedUnchanged(MeshD& m, const std::string& expected, const Clean::Params& params = Clean::Params()) {
+  const Soup before = ToSoup(m);
+  const int vn = m.vn, fn = m.fn;
+  const auto r = Clean::Do(m, params);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find(expected), std::string::npos) << r.message;
+  EXPECT_EQ(m.vn, vn);
+  EXPECT_EQ(m.fn, fn);
+  const Soup after = ToSoup(m);
+  EXPECT_EQ(after.faces, before.faces);
+  ASSERT_EQ(after.points.size(), before.points.size());
+  for (std::size_t i = 0; i < after.points.size(); ++i)
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isnan(before.points[i][k])) {
+        EXPECT_EQ(after.points[i][k], before.points[i][k]);
+      }
+    }
+  EXPECT_NE(r.Summary().find("refused"), std::string::npos);
+}
+
+TEST(CleanRawMesh, RefusesEmptyMeshPointCloudAndNaN) {
+  MeshD empty;
+  ExpectRefusedUnchanged(empty, "empty");
+
+  MeshD cloud;
+  std::string error;
+  ASSERT_TRUE(molremesh::LoadMesh(cloud, molremesh::test::Fixture("point_cloud.ply"), error)) << error;
+  ExpectRefusedUnchanged(cloud, "point cloud");
+
+  MeshD nan;
+  ASSERT_TRUE(molremesh::LoadMesh(nan, molremesh::test::Fixture("nan_vertex.ply"), error)) << error;
+  ExpectRefusedUnchanged(nan, "NaN");
+
+  MeshD infinite;
+  MakeSphere(infinite);
+  infinite.vert[3].P()[1] = std::numeric_limits<double>::infinity();
+  ExpectRefusedUnchanged(infinite, "NaN or infinite");
+}
+
+TEST(CleanRawMesh, RefusesAllDegenerateMeshesAndBadParameters) {
+  MeshD line;
+  Build(line, {Point(0, 0, 0), Point(1, 0, 0), Point(2, 0, 0)}, {{0, 1, 2}});
+  ExpectRefusedUnchanged(line, "degenerate");
+
+  MeshD sphere;
+  MakeSphere(sphere);
+  Clean::Params params;
+  params.mergeTolerance = -1;
+  ExpectRefusedUnchanged(sphere, "mergeTolerance", params);
+  params = Clean::Params();
+  params.minComponentFraction = std::numeric_limits<double>::quiet_NaN();
+  ExpectRefusedUnchanged(sphere, "minComponentFraction", params);
+  params = Clean::Params();
+  params.maxHoleEdges = -3;
+  ExpectRefusedUnchanged(sphere, "maxHoleEdges", params);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Float mesh with optional components (MeshLab's CMeshO layout)
+// ------------------------------------------------------------------------------------------------
+
+TEST(CleanRawMesh, FloatMeshWithOptionalAdjacency) {
+  MeshO m;
+  std::string error;
+  ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), error)) << error;
+  const int vn = m.vn, fn = m.fn;
+  // Without FF/VF adjacency enabled: refused, untouched.
+  const auto refused = molremesh::CleanRawMesh<MeshO>::Do(m);
+  EXPECT_FALSE(refused.ok);
+  EXPECT_NE(refused.message.find("adjacency"), std::string::npos);
+  EXPECT_EQ(m.vn, vn);
+  EXPECT_EQ(m.fn, fn);
+
+  EnableAdjacency(m);
+  const auto r = molremesh::CleanRawMesh<MeshO>::Do(m);
+  ASSERT_TRUE(r.ok) << r.message;
+  const molremesh::QualityReport q = molremesh::MeshQuality<MeshO>::Compute(m);
+  EXPECT_EQ(q.boundaryEdges, 0u);
+  EXPECT_EQ(q.nonManifoldEdges, 0u);
+  EXPECT_EQ(q.nonManifoldVertices, 0u);
+  EXPECT_EQ(q.degenerateFaces, 0u);
+  EXPECT_EQ(q.components, 1u);
+  EXPECT_EQ(q.genus, 0);
+  EXPECT_EQ(m.vert.size(), std::size_t(m.vn));
+  EXPECT_TRUE(vcg::tri::Clean<MeshO>::IsCoherentlyOrientedMesh(m));
+
+  // Same answer as the double mesh.
+  MeshD d;
+  ASSERT_TRUE(molremesh::LoadMesh(d, molremesh::test::SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), error)) << error;
+  const auto rd = Clean::Do(d);
+  EXPECT_EQ(r.facesAfter, rd.facesAfter);
+  EXPECT_EQ(r.closedHoles, rd.closedHoles);
+  EXPECT_EQ(r.holeFacesAdded, rd.holeFacesAdded);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Real molecular meshes
+// ------------------------------------------------------------------------------------------------
+
+struct RealMesh {
+  const char* file;
+  bool closedAfter;     ///< every kept component closed (all of them here)
+  double maxAreaChange; ///< percent, after accounting for the removed components
+};
+
+void CheckRealMesh(const RealMesh& c, bool printRow) {
+  MeshD m;
+  std::string error;
+  ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh(c.file), error)) << error;
+  const auto inputPositions = Positions(m);
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = Clean::Do(m);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  ExpectValidResult(m, r);
+  const molremesh::QualityReport q = Quality::Compute(m);
+  if (c.closedAfter) {
+    EXPECT_EQ(q.boundaryEdges, 0u);
+    for (const auto& component : q.componentInfo) EXPECT_TRUE(component.closed);
+    EXPECT_GE(q.genus, 0);
+  }
+  EXPECT_LE(r.selfIntersectingFacesAfter, r.selfIntersectingFacesBefore);
+  EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
+  EXPECT_EQ(r.touchingSplitVertices, 0u);
+  EXPECT_EQ(r.movedSplitVertices, 0u);
+  EXPECT_EQ(r.remainingDegenerateFaces, 0u);
+  for (const auto& p : Positions(m)) ASSERT_TRUE(inputPositions.count(p)) << "a vertex moved";
+  const double areaChange = 100.0 * (r.areaAfter - r.areaBefore) / r.areaBefore;
+  const double volumeChange = 100.0 * (r.volumeAfter - r.volumeBefore) / r.volumeBefore;
+  if (r.removedSmallComponents == 0 && r.flippedComponents == 0) {
+    EXPECT_LT(std::fabs(areaChange), c.maxAreaChange);
+    EXPECT_LT(std::fabs(volumeChange), c.maxAreaChange);
+  } else {
+    // Removed cavities and flipped cavity components change the totals by design; the surface
+    // that stays must not lose more than a few percent.
+    EXPECT_LT(std::fabs(areaChange), 6.0);
+    EXPECT_LT(std::fabs(volumeChange), 6.0);
+  }
+  // Idempotent: a second pass finds nothing to do.
+  const auto again = Clean::Do(m);
+  ASSERT_TRUE(again.ok);
+  EXPECT_EQ(again.facesAfter, r.facesAfter);
+  EXPECT_EQ(again.mergedVertices + again.removedDuplicateFaces + again.removedDegenerateFaces +
+                again.removedNonManifoldFaces + again.splitNonManifoldVertices + again.flippedFacesForOrientation +
+                again.closedHoles + again.removedSmallComponents + again.repairedTangles,
+            0u);
+  if (printRow)
+    std::printf("| %s | %zu | %zu | merged %zu, unref %zu, dup %zu, degen %zu+%zu flip, nm-faces %zu, split %zu "
+                "(retri %zu), flipped %zu (%zu comps), tangles %zu/%zu (-%zu +%zu), small comps %zu (%zu f), holes %zu "
+                "(+%zu f, %zu open), orphans %zu | bnd %zu | nm %zu/%zu | deg %zu | SI %zu->%zu | comps %zu | genus %d | "
+                "dA %+.3f%% | dV %+.3f%% | %.2f s |\n",
+                c.file, r.facesBefore, r.facesAfter, r.mergedVertices, r.removedUnreferencedVertices,
+                r.removedDuplicateFaces, r.removedDegenerateFaces, r.flippedDegenerateFaces, r.removedNonManifoldFaces,
+                r.splitNonManifoldVertices, r.retriangulatedPinchFans, r.flippedFacesForOrientation, r.flippedComponents,
+                r.repairedTangles, r.repairedTangles + r.unrepairedTangles, r.tangleFacesRemoved, r.tangleFacesAdded,
+                r.removedSmallComponents, r.removedComponentFaces, r.closedHoles, r.holeFacesAdded, r.unfilledHoles,
+                r.removedOrphanedVertices, r.boundaryEdgesAfter, r.nonManifoldEdgesAfter, r.nonManifoldVerticesAfter,
+                r.degenerateFacesAfter, r.selfIntersectingFacesBefore, r.selfIntersectingFacesAfter, r.componentsAfter,
+                r.genusAfter, areaChange, volumeChange, seconds);
+}
+
+class RealMeshes : public ::testing::TestWithParam<RealMesh> {};
+
+TEST_P(RealMeshes, CleanedMeshIsAValidClosedManifold) { CheckRealMesh(GetParam(), true); }
+
+INSTANTIATE_TEST_SUITE_P(Shared, RealMeshes,
+                         ::testing::Values(RealMesh{"lysozyme_Lys1_msms.ply", true, 0.01},
+                                           RealMesh{"bpti_1bpi_msms.ply", true, 0.01},
+                                           RealMesh{"ubiquitin_1UBQ_edtsurf_mc.ply", true, 1.0},
+                                           RealMesh{"ache_1MAH_edtsurf_vcmc.ply", true, 0.01},
+                                           RealMesh{"ubiquitin_1UBQ_pymol_ses.ply", true, 0.1},
+                                           RealMesh{"ache_1MAH_pymol_ses.ply", true, 0.1},
+                                           RealMesh{"ubiquitin_1UBQ_jmol.ply", true, 0.01},
+                                           RealMesh{"galactose_grasp.ply", true, 0.01}),
+                         [](const ::testing::TestParamInfo<RealMesh>& param) {
+                           std::string name = param.param.file;
+                           return name.substr(0, name.find('.'));
+                         });
+
+TEST(CleanRawMesh, RealMeshSpecifics) {
+  std::string error;
+  {
+    // EDTSurf's marching-cubes crack: 36 boundary edges, two tiny crack pieces touching the surface
+    // at vertices, and a boundary loop pinched at one vertex.
+    MeshD m;
+    ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), error));
+    const auto r = Clean::Do(m);
+    ASSERT_TRUE(r.ok);
+    EXPECT_EQ(r.removedSmallComponents, 2u);
+    EXPECT_EQ(r.removedComponentFaces, 3u);
+    EXPECT_EQ(r.closedHoles, 1u);
+    EXPECT_EQ(r.splitNonManifoldVertices, 0u);
+    EXPECT_EQ(r.genusAfter, 0);
+  }
+  {
+    // Jmol: 8 910 unreferenced vertices and nothing else to do.
+    MeshD m;
+    ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("ubiquitin_1UBQ_jmol.ply"), error));
+    const auto r = Clean::Do(m);
+    ASSERT_TRUE(r.ok);
+    EXPECT_EQ(r.removedUnreferencedVertices, 8910u);
+    EXPECT_EQ(r.facesAfter, r.facesBefore);
+  }
+  {
+    // PyMOL: a vertex joining two closed fans inside a tangle of intersecting faces.
+    MeshD m;
+    ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("ubiquitin_1UBQ_pymol_ses.ply"), error));
+    const auto r = Clean::Do(m);
+    ASSERT_TRUE(r.ok);
+    EXPECT_GT(r.selfIntersectingFacesBefore, 0u);
+    EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
+    EXPECT_EQ(r.componentsAfter, 1u);
+  }
+}
+
+// Manual: the two large meshes (a few seconds each). Run with --gtest_also_run_disabled_tests.
+TEST(CleanRawMeshLarge, DISABLED_HivProtease) { CheckRealMesh({"hivprotease_1HPV_edtsurf_mc.ply", true, 0.01}, true); }
+TEST(CleanRawMeshLarge, DISABLED_MTor) { CheckRealMesh({"mtor_4JSV_edtsurf_vcmc.ply", true, 1.0}, true); }
+
+} // namespace
