@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian package molremesh needs to build, test and benchmark (Debian bookworm).
 # Safe to run again: apt skips what is already there. Needs root (or sudo).
+# usage: install_deps.sh [--benchmarks]   (--benchmarks adds CGAL, the benchmark-only baseline)
 set -euo pipefail
 
 packages=(
@@ -12,6 +13,9 @@ packages=(
   xvfb xauth
   tetgen
 )
+if [ "${1:-}" = "--benchmarks" ]; then
+  packages+=(libcgal-dev)
+fi
 
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then

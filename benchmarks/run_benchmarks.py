@@ -1,0 +1,613 @@
+#!/usr/bin/env python3
+"""Benchmark molremesh against the remeshers it must beat, on real molecular meshes.
+
+For every mesh (default: all of ../shared/data/meshes) the target edge length L is the input's
+mean edge length, and each method remeshes the input at L:
+
+  cgal      CGAL 5.5 Polygon_mesh_processing::isotropic_remeshing, 10 iterations
+            (benchmarks/cgal_isotropic_remesh, built when libcgal-dev is installed)
+  meshlab   MeshLab 2020.09's builtin "Remeshing: Isotropic Explicit Remeshing", 10 iterations,
+            absolute target length L, other parameters at MeshLab's defaults, through the
+            sandboxed meshlabserver of the build (<build>/meshlabserver/run_meshlabserver.sh)
+  molremesh the command template given by --molremesh-cmd (a method whose command fails is
+            reported as n/a, not as an error)
+
+Each method runs as its own process, timed (wall clock) and measured (peak resident memory of
+the process and the children it waited for, from os.wait4). Its output is then measured with
+`molremesh report --json` (angles, quality, valence, self-intersections, boundary, volume), with
+benchmarks/mesh_distance (symmetric Hausdorff distance to the input, divided by L) and with
+TetGen (`tetgen -pq1.4` on an OFF copy, with a timeout): "TetGen ok" means TetGen could build a
+quality tetrahedral mesh bounded by the surface.
+
+Prints one Markdown table per mesh and a summary table per method, and writes them to --out
+(default benchmarks/RESULTS.md) so that the README can include the file; --json keeps the raw
+figures. Python 3 standard library only.
+"""
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import shlex
+import shutil
+import signal
+import statistics
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DEFAULT_DATA = os.path.normpath(os.path.join(REPO, "..", "shared", "data", "meshes"))
+DEFAULT_MOLREMESH_CMD = "{molremesh} remesh {input} {output} --stages clean,cvt,segment,rar"
+METHODS = ("cgal", "meshlab", "molremesh")
+METHOD_LABELS = {"input": "input", "cgal": "CGAL isotropic", "meshlab": "MeshLab isotropic", "molremesh": "molremesh"}
+
+MESHLAB_MLX = """<!DOCTYPE FilterScript>
+<FilterScript>
+ <filter name="Remeshing: Isotropic Explicit Remeshing">
+  <Param type="RichInt" value="{iterations}" name="Iterations"/>
+  <Param type="RichBool" value="false" name="Adaptive"/>
+  <Param type="RichBool" value="false" name="SelectedOnly"/>
+  <Param type="RichAbsPerc" value="{target:.9g}" min="0" max="{diag:.9g}" name="TargetLen"/>
+  <Param type="RichFloat" value="30" name="FeatureDeg"/>
+  <Param type="RichBool" value="false" name="CheckSurfDist"/>
+  <Param type="RichAbsPerc" value="{maxdist:.9g}" min="0" max="{diag:.9g}" name="MaxSurfDist"/>
+  <Param type="RichBool" value="true" name="SplitFlag"/>
+  <Param type="RichBool" value="true" name="CollapseFlag"/>
+  <Param type="RichBool" value="true" name="SwapFlag"/>
+  <Param type="RichBool" value="true" name="SmoothFlag"/>
+  <Param type="RichBool" value="true" name="ReprojectFlag"/>
+ </filter>
+</FilterScript>
+"""
+
+
+# --- Running and measuring processes ----------------------------------------------------------
+
+
+class Run:
+    """Outcome of one process: exit code (128+signal when killed), wall seconds, peak RSS in MB."""
+
+    def __init__(self, code, seconds, peak_mb, timed_out, stdout, stderr):
+        self.code, self.seconds, self.peak_mb = code, seconds, peak_mb
+        self.timed_out, self.stdout, self.stderr = timed_out, stdout, stderr
+
+    @property
+    def ok(self):
+        return self.code == 0 and not self.timed_out
+
+    def why(self):
+        """One line saying why the run failed."""
+        if self.timed_out:
+            return "timed out after %.0f s" % self.seconds
+        lines = [l.strip() for l in (self.stderr + "\n" + self.stdout).splitlines() if l.strip()]
+        last = lines[-1] if lines else ""
+        return "exit %d%s" % (self.code, (": " + last[:160]) if last else "")
+
+
+_RUNNING = set()  # process groups to kill if the runner itself is stopped
+
+
+def _stop(signum, frame):
+    for pgid in list(_RUNNING):
+        try:
+            os.killpg(pgid, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+    sys.exit(128 + signum)
+
+
+def run_measured(argv, timeout, cwd=None, log_prefix=None):
+    """Runs argv in its own process group; wall time and peak memory come from os.wait4.
+
+    The group is killed when the timeout passes. stdout/stderr go to files (no pipe can fill up),
+    kept as log_prefix.out/.err when log_prefix is given.
+    """
+    tmp = tempfile.mkdtemp(prefix="molremesh_run_")
+    out_path = (log_prefix + ".out") if log_prefix else os.path.join(tmp, "out")
+    err_path = (log_prefix + ".err") if log_prefix else os.path.join(tmp, "err")
+    timed_out = threading.Event()
+    start = time.monotonic()
+    try:
+        with open(out_path, "wb") as out, open(err_path, "wb") as err:
+            try:
+                proc = subprocess.Popen(argv, stdout=out, stderr=err, stdin=subprocess.DEVNULL, cwd=cwd,
+                                        start_new_session=True)
+            except OSError as e:
+                return Run(127, 0.0, None, False, "", str(e))
+
+            def kill():
+                timed_out.set()
+                try:
+                    os.killpg(proc.pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass
+
+            _RUNNING.add(proc.pid)
+            timer = threading.Timer(timeout, kill) if timeout else None
+            if timer:
+                timer.start()
+            try:
+                _, status, usage = os.wait4(proc.pid, 0)
+            finally:
+                _RUNNING.discard(proc.pid)
+                if timer:
+                    timer.cancel()
+            proc.returncode = os.waitstatus_to_exitcode(status)
+            seconds = time.monotonic() - start
+        code = proc.returncode if proc.returncode >= 0 else 128 - proc.returncode
+        with open(out_path, errors="replace") as f:
+            stdout = f.read()
+        with open(err_path, errors="replace") as f:
+            stderr = f.read()
+        return Run(code, seconds, usage.ru_maxrss / 1024.0, timed_out.is_set(), stdout, stderr)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+
+
+# A child exec'd from this process inherits, in ru_maxrss, the resident size of the runner at the
+# time of the fork (Linux keeps the old image's high-water mark across exec). Peaks at or below
+# this floor only say "at most the floor"; main() measures it with a process that does nothing.
+MEMORY_FLOOR_MB = [0.0]
+
+
+def format_peak(mb):
+    if mb is None:
+        return "n/a"
+    if mb <= MEMORY_FLOOR_MB[0] + 1.0:
+        return "≤%.0f" % (MEMORY_FLOOR_MB[0] + 1.0)
+    return "%.0f" % mb
+
+
+def run_json(argv, timeout=600):
+    """Runs a command that prints one JSON object; returns (dict or None, Run)."""
+    r = run_measured(argv, timeout)
+    if not r.ok:
+        return None, r
+    try:
+        return json.loads(r.stdout), r
+    except ValueError:
+        r.code = 1
+        r.stderr += "\nnot JSON: " + r.stdout[:200]
+        return None, r
+
+
+# --- The tools ------------------------------------------------------------------------------
+
+
+class Tools:
+    def __init__(self, args):
+        b = os.path.abspath(args.build_dir)
+        self.molremesh = os.path.join(b, "cli", "molremesh")
+        self.mesh_distance = os.path.join(b, "benchmarks", "mesh_distance")
+        self.mesh_convert = os.path.join(b, "benchmarks", "mesh_convert")
+        self.cgal = os.path.join(b, "benchmarks", "cgal_isotropic_remesh")
+        self.meshlab = os.path.join(b, "meshlabserver", "run_meshlabserver.sh")
+        self.tetgen = shutil.which("tetgen")
+        self.args = args
+
+    def check(self, skip):
+        """Names of the methods that cannot run, with the reason; exits when a must-have is missing."""
+        for path, what in ((self.molremesh, "cli/molremesh"), (self.mesh_distance, "benchmarks/mesh_distance"),
+                           (self.mesh_convert, "benchmarks/mesh_convert")):
+            if not os.access(path, os.X_OK):
+                sys.exit("run_benchmarks: %s not found in the build dir %s: build the targets molremesh, "
+                         "mesh_distance and mesh_convert" % (what, self.args.build_dir))
+        missing = {}
+        if "cgal" not in skip and not os.access(self.cgal, os.X_OK):
+            missing["cgal"] = "cgal_isotropic_remesh not built (install libcgal-dev, rebuild)"
+        if "meshlab" not in skip and not os.access(self.meshlab, os.X_OK):
+            missing["meshlab"] = "no sandboxed meshlabserver (build the target meshlabserver_sandbox)"
+        if not self.tetgen:
+            print("run_benchmarks: tetgen not found (Debian package tetgen): TetGen column is n/a", file=sys.stderr)
+        return missing
+
+    def report(self, mesh):
+        data, r = run_json([self.molremesh, "report", "--json", mesh], timeout=self.args.timeout)
+        if data is None:
+            print("  report of %s failed: %s" % (os.path.basename(mesh), r.why()), file=sys.stderr)
+        return data
+
+    def stats(self, mesh):
+        data, r = run_json([self.mesh_distance, "--stats", mesh])
+        if data is None:
+            print("  mesh_distance --stats %s failed: %s" % (mesh, r.why()), file=sys.stderr)
+            return None
+        return data["a"]
+
+    def distance(self, a, b):
+        argv = [self.mesh_distance, a, b, "--threads", str(self.args.threads)]
+        if self.args.samples:
+            argv += ["--samples", str(self.args.samples)]
+        data, r = run_json(argv, timeout=self.args.timeout)
+        if data is None:
+            print("  mesh_distance failed: %s" % r.why(), file=sys.stderr)
+        return data
+
+    def tetgen_check(self, mesh, work):
+        """'yes (N tets)', 'no (...)', 'timeout' or None when TetGen is not installed."""
+        if not self.tetgen:
+            return None
+        folder = tempfile.mkdtemp(prefix="tetgen_", dir=work)
+        try:
+            off = os.path.join(folder, "surface.off")
+            conv = run_measured([self.mesh_convert, mesh, off], timeout=600)
+            if not conv.ok:
+                return "no (conversion: %s)" % conv.why()
+            # Unbuffered, so that the phase TetGen was in survives an abort.
+            stdbuf = shutil.which("stdbuf")
+            argv = ([stdbuf, "-o0"] if stdbuf else []) + [self.tetgen, "-pq1.4", off]
+            r = run_measured(argv, timeout=self.args.tetgen_timeout, cwd=folder)
+            if r.timed_out:
+                return "timeout (%.0f s)" % self.args.tetgen_timeout
+            if r.code != 0:
+                # Debian's tetgen reports errors by throwing an int nobody catches: SIGABRT (134).
+                phases = [l.strip().rstrip(".") for l in r.stdout.splitlines() if l.strip().endswith("...")]
+                errors = [l.strip() for l in (r.stdout + r.stderr).splitlines()
+                          if "intersect" in l.lower() or "error" in l.lower()]
+                reason = {1: "out of memory", 2: "internal error", 3: "self-intersections",
+                          4: "very small input feature", 5: "very close facets",
+                          10: "input error"}.get(r.code)
+                if reason is None:
+                    reason = ("aborted" if r.code == 134 else "exit %d" % r.code)
+                    if phases:
+                        reason += " in %s" % phases[-1].lower()
+                if errors:
+                    reason += ": " + errors[0][:80]
+                return "no (%s)" % reason
+            tets = None
+            for line in r.stdout.splitlines():
+                if line.strip().startswith("Mesh tetrahedra:"):
+                    tets = int(line.split(":")[1])
+            if not tets:
+                # TetGen removes every tetrahedron outside the surface: an open surface leaves none.
+                return "no (0 tets: not closed)"
+            return "yes (%d tets, %.0f s)" % (tets, r.seconds)
+        finally:
+            shutil.rmtree(folder, ignore_errors=True)
+
+
+# --- Methods ------------------------------------------------------------------------------------
+
+
+def format_template(template, **values):
+    """Fills {name} placeholders with shell-quoted values and splits the result into argv."""
+    quoted = {k: shlex.quote(str(v)) for k, v in values.items()}
+    return shlex.split(template.format(**quoted))
+
+
+def method_argv(method, tools, args, mesh, output, target, diag, work):
+    if method == "cgal":
+        return [tools.cgal, mesh, output, "--target", "%.9g" % target, "--iterations", str(args.iterations)]
+    if method == "meshlab":
+        mlx = os.path.join(work, "isotropic_remeshing.mlx")
+        with open(mlx, "w") as f:
+            f.write(MESHLAB_MLX.format(iterations=args.iterations, target=target, diag=diag, maxdist=0.01 * diag))
+        log = os.path.join(work, "meshlab.log")
+        return [tools.meshlab, "-l", log, "-i", mesh, "-o", output, "-s", mlx]
+    return format_template(args.molremesh_cmd, molremesh=tools.molremesh, input=mesh, output=output,
+                           target="%.9g" % target, iterations=args.iterations)
+
+
+def algorithm_seconds(method, run, tools, args, mesh, work):
+    """Time of the remeshing alone: CGAL prints it; for MeshLab it is estimated as the run's time
+    minus that of a meshlabserver run that only loads and saves the input (Xvfb start-up included)."""
+    if method == "cgal":
+        try:
+            return float(json.loads(run.stdout)["remesh_seconds"])
+        except (ValueError, KeyError):
+            return None
+    if method == "meshlab":
+        # meshlabserver does not log filter times: subtract a run that only loads and saves.
+        io_only = os.path.join(work, "meshlab_io_only.ply")
+        argv = [tools.meshlab, "-i", mesh, "-o", io_only]
+        baseline = run_measured(argv, args.timeout, cwd=work)
+        if baseline.ok:
+            return max(0.0, run.seconds - baseline.seconds)
+    return None
+
+
+# --- Measuring one mesh -----------------------------------------------------------------------
+
+
+def measure_output(row, tools, output, mesh, input_report, target, work, args):
+    report = tools.report(output)
+    if report is None:
+        row["status"] = "n/a (output not readable)"
+        return
+    row["report"] = report
+    dist = tools.distance(output, mesh)
+    if dist is not None:
+        row["hausdorff"] = dist["hausdorff"]
+        row["hausdorff_over_L"] = dist["hausdorff"] / target
+        row["mean_distance_over_L"] = 0.5 * (dist["a_to_b"]["mean"] + dist["b_to_a"]["mean"]) / target
+    vin, vout = (input_report or {}).get("volume"), report.get("volume")
+    if vin and vout is not None:
+        row["volume_change_percent"] = 100.0 * (vout - vin) / abs(vin)
+    if not args.skip_tetgen:
+        row["tetgen"] = tools.tetgen_check(output, work)
+
+
+def bench_mesh(mesh, tools, args, methods, unavailable, work_root):
+    name = os.path.splitext(os.path.basename(mesh))[0]
+    print("== %s" % name, file=sys.stderr)
+    work = os.path.join(work_root, name)
+    os.makedirs(work, exist_ok=True)
+    input_report = tools.report(mesh)
+    stats = tools.stats(mesh)
+    if stats is None:
+        return None
+    target = (input_report or {}).get("mean_edge_length") or stats["mean_edge_length"]
+    result = {"mesh": name, "file": mesh, "target_edge_length": target, "bbox_diagonal": stats["bbox_diagonal"],
+              "rows": []}
+    row = {"method": "input", "status": "ok", "report": input_report}
+    if not args.skip_tetgen:
+        row["tetgen"] = tools.tetgen_check(mesh, work)
+    result["rows"].append(row)
+
+    for method in methods:
+        row = {"method": method}
+        result["rows"].append(row)
+        if method in unavailable:
+            row["status"] = "n/a (%s)" % unavailable[method]
+            continue
+        output = os.path.join(work, "%s_%s.ply" % (name, method))
+        argv = method_argv(method, tools, args, mesh, output, target, stats["bbox_diagonal"], work)
+        print("  %s: %s" % (method, " ".join(shlex.quote(a) for a in argv)), file=sys.stderr)
+        run = run_measured(argv, args.timeout, cwd=work, log_prefix=os.path.join(work, method))
+        row.update(seconds=run.seconds, peak_mb=run.peak_mb, algorithm_seconds=None)
+        if not run.ok or not os.path.exists(output) or os.path.getsize(output) == 0:
+            row["status"] = "n/a (%s)" % (run.why() if not run.ok else "no output written")
+            print("    failed: %s" % row["status"], file=sys.stderr)
+            continue
+        row["status"] = "ok"
+        row["algorithm_seconds"] = algorithm_seconds(method, run, tools, args, mesh, work)
+        measure_output(row, tools, output, mesh, input_report, target, work, args)
+        print("    %.1f s, %.0f MB, %s faces" % (run.seconds, run.peak_mb or 0,
+                                                  (row.get("report") or {}).get("faces", "?")), file=sys.stderr)
+    return result
+
+
+# --- Tables -------------------------------------------------------------------------------------
+
+COLUMNS = ["method", "faces in", "faces out", "time s", "remesh s", "peak MB", "θmin", "θmax", "Qmin", "V567 %",
+           "obtuse %", "% < 30°", "SI pairs", "boundary edges", "Hausdorff/L", "volume change %", "TetGen ok"]
+
+
+def fmt(value, spec):
+    if value is None:
+        return "n/a"
+    if isinstance(value, str):
+        return value
+    return format(value, spec)
+
+
+def row_cells(row, faces_in):
+    r = row.get("report") or {}
+    ok = row.get("status") == "ok"
+    if not ok:
+        cells = [METHOD_LABELS[row["method"]], fmt(faces_in, "d")] + ["n/a"] * (len(COLUMNS) - 2)
+        return cells
+    tet = row.get("tetgen")
+    return [
+        METHOD_LABELS[row["method"]],
+        fmt(faces_in, "d"),
+        fmt(r.get("faces"), "d"),
+        fmt(row.get("seconds"), ".1f") if row["method"] != "input" else "",
+        fmt(row.get("algorithm_seconds"), ".1f") if row["method"] != "input" else "",
+        format_peak(row.get("peak_mb")) if row["method"] != "input" else "",
+        fmt(r.get("angle_min_deg"), ".1f"),
+        fmt(r.get("angle_max_deg"), ".1f"),
+        fmt(r.get("q_min"), ".3f"),
+        fmt(r.get("v567_percent"), ".2f"),
+        fmt(r.get("obtuse_percent"), ".2f"),
+        fmt(r.get("small_angle_percent"), ".2f"),
+        fmt(r.get("self_intersecting_pairs"), "d"),
+        fmt(r.get("boundary_edges"), "d"),
+        fmt(row.get("hausdorff_over_L"), ".3f") if row["method"] != "input" else "",
+        fmt(row.get("volume_change_percent"), "+.2f") if row["method"] != "input" else "",
+        "n/a" if tet is None else tet,
+    ]
+
+
+def markdown_table(header, rows):
+    lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
+    lines += ["| " + " | ".join(cells) + " |" for cells in rows]
+    return "\n".join(lines)
+
+
+def mesh_table(result):
+    faces_in = ((result["rows"][0].get("report")) or {}).get("faces")
+    return markdown_table(COLUMNS, [row_cells(row, faces_in) for row in result["rows"]])
+
+
+def summary_table(results, methods):
+    """One row per method over all meshes: sums, worst cases and medians (see the legend)."""
+    header = ["method", "meshes ok", "faces in", "faces out", "time s", "peak MB", "θmin", "θmax", "Qmin",
+              "V567 %", "obtuse %", "% < 30°", "SI pairs", "boundary edges", "Hausdorff/L", "max abs volume change %",
+              "TetGen ok"]
+    rows = []
+    for method in ("input",) + tuple(methods):
+        picked = [(res, row) for res in results for row in res["rows"] if row["method"] == method]
+        good = [(res, row) for res, row in picked if row.get("status") == "ok" and row.get("report")]
+        if not good:
+            rows.append([METHOD_LABELS[method], "0/%d" % len(picked)] + ["n/a"] * (len(header) - 2))
+            continue
+        reps = [row["report"] for _, row in good]
+
+        def values(key, source="report"):
+            out = [(row["report"] if source == "report" else row).get(key) for _, row in good]
+            return [v for v in out if v is not None]
+
+        def agg(vals, fn, spec):
+            return fmt(fn(vals), spec) if vals else "n/a"
+
+        faces_in = sum((res["rows"][0].get("report") or {}).get("faces", 0) for res, _ in good)
+        tet = [row.get("tetgen") for _, row in good]
+        tet_known = [t for t in tet if t is not None]
+        is_input = method == "input"
+        rows.append([
+            METHOD_LABELS[method],
+            "%d/%d" % (len(good), len(picked)),
+            str(faces_in),
+            str(sum(r.get("faces", 0) for r in reps)),
+            "" if is_input else agg(values("seconds", "row"), sum, ".1f"),
+            "" if is_input else (format_peak(max(values("peak_mb", "row"))) if values("peak_mb", "row") else "n/a"),
+            agg(values("angle_min_deg"), min, ".1f"),
+            agg(values("angle_max_deg"), max, ".1f"),
+            agg(values("q_min"), min, ".3f"),
+            agg(values("v567_percent"), statistics.median, ".2f"),
+            agg(values("obtuse_percent"), statistics.median, ".2f"),
+            agg(values("small_angle_percent"), statistics.median, ".2f"),
+            agg(values("self_intersecting_pairs"), sum, "d"),
+            agg(values("boundary_edges"), sum, "d"),
+            "" if is_input else agg(values("hausdorff_over_L", "row"), max, ".3f"),
+            "" if is_input else agg([abs(v) for v in values("volume_change_percent", "row")], max, ".2f"),
+            ("%d/%d" % (sum(1 for t in tet_known if t.startswith("yes")), len(tet_known))) if tet_known else "n/a",
+        ])
+    return markdown_table(header, rows)
+
+
+def describe_run(args, methods):
+    lines = [
+        "Generated by `benchmarks/run_benchmarks.py` on %s (%s, %d cores)." % (
+            datetime.date.today().isoformat(), platform.machine(), os.cpu_count() or 0),
+        "",
+        "Target edge length L = mean edge length of the input; %d iterations for every method." % args.iterations,
+        "",
+        "- **CGAL isotropic**: CGAL 5.5 `Polygon_mesh_processing::isotropic_remeshing`, input read as a polygon "
+        "soup, `repair_polygon_soup` + `orient_polygon_soup` + `polygon_soup_to_polygon_mesh`, nothing protected "
+        "(`benchmarks/cgal_isotropic_remesh`).",
+        "- **MeshLab isotropic**: MeshLab 2020.09 \"Remeshing: Isotropic Explicit Remeshing\" through meshlabserver, "
+        "TargetLen = L (absolute), crease angle 30°, refine/collapse/swap/smooth/reproject on, adaptive and surface "
+        "distance check off (MeshLab's defaults otherwise).",
+        "- **molremesh**: `%s`." % args.molremesh_cmd.replace("|", "\\|"),
+        "",
+        "Columns: *time s* = wall time of the whole process (load, remesh, save; for MeshLab also Xvfb start-up); "
+        "*remesh s* = the remeshing alone (CGAL: measured around the call; MeshLab: estimated as time s minus "
+        "the time of a meshlabserver run that only loads and saves the input); *peak MB* = peak resident memory "
+        "(ru_maxrss from os.wait4; ≤N = below what a child inherits from the runner itself); "
+        "θmin/θmax = smallest/largest triangle angle; Qmin = min of Q = 6/√3·A/(p·h); V567 % = interior vertices "
+        "of valence 5–7; obtuse % = faces with an angle ≥ 90°; % < 30° = faces with an angle < 30°; SI pairs = "
+        "self-intersecting face pairs sharing no vertex; Hausdorff/L = symmetric Hausdorff distance output↔input "
+        "(vertices plus one area-uniform sample per face, both ways) over L; volume change = signed enclosed "
+        "volume, output vs input; TetGen ok = `tetgen -pq1.4` builds a tetrahedral mesh of the output (timeout "
+        "{timeout} s). "
+        "Quality figures come from `molremesh report --json`.".replace("{timeout}", "%.0f" % args.tetgen_timeout),
+    ]
+    return "\n".join(lines)
+
+
+# --- Main -----------------------------------------------------------------------------------------
+
+
+def resolve_meshes(names, data_dir):
+    if not names:
+        if not os.path.isdir(data_dir):
+            sys.exit("run_benchmarks: no mesh folder %s (pass meshes or --data-dir)" % data_dir)
+        return sorted(os.path.join(data_dir, f) for f in os.listdir(data_dir)
+                      if os.path.splitext(f)[1].lower() in (".ply", ".off", ".obj", ".stl"))
+    out = []
+    for n in names:
+        path = n if os.path.exists(n) else os.path.join(data_dir, n)
+        if not os.path.exists(path) and os.path.exists(path + ".ply"):
+            path += ".ply"
+        if not os.path.exists(path):
+            sys.exit("run_benchmarks: mesh not found: %s" % n)
+        out.append(os.path.abspath(path))
+    return out
+
+
+def run_all(args, skip, methods):
+    meshes = resolve_meshes(args.mesh_args + args.meshes, args.data_dir)
+    tools = Tools(args)
+    unavailable = tools.check(skip)
+    for m, why in unavailable.items():
+        print("run_benchmarks: %s: %s" % (m, why), file=sys.stderr)
+    work_root = os.path.abspath(args.work_dir) if args.work_dir else tempfile.mkdtemp(prefix="molremesh_bench_")
+    os.makedirs(work_root, exist_ok=True)
+    results = []
+    try:
+        for mesh in meshes:
+            res = bench_mesh(mesh, tools, args, methods, unavailable, work_root)
+            if res is None:
+                continue
+            results.append(res)
+            print("\n### %s (L = %.4f)\n\n%s\n" % (res["mesh"], res["target_edge_length"], mesh_table(res)))
+            sys.stdout.flush()
+    finally:
+        if not args.work_dir:
+            shutil.rmtree(work_root, ignore_errors=True)
+    return results
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("mesh_args", nargs="*", metavar="MESH", help="meshes (paths, or names in --data-dir)")
+    p.add_argument("--meshes", nargs="+", default=[], help="meshes (same as the positional arguments)")
+    p.add_argument("--data-dir", default=DEFAULT_DATA, help="folder of the default meshes (%(default)s)")
+    p.add_argument("--build-dir", default=os.path.join(REPO, "build"), help="CMake build folder (%(default)s)")
+    p.add_argument("--out", default=os.path.join(REPO, "benchmarks", "RESULTS.md"),
+                   help="Markdown file written with the tables (%(default)s); '-' for none")
+    p.add_argument("--json", help="also write the raw figures to this JSON file")
+    p.add_argument("--skip-cgal", action="store_true")
+    p.add_argument("--skip-meshlab", action="store_true")
+    p.add_argument("--skip-molremesh", action="store_true")
+    p.add_argument("--skip-tetgen", action="store_true", help="leave the TetGen column out (it is the slowest)")
+    p.add_argument("--molremesh-cmd", default=DEFAULT_MOLREMESH_CMD,
+                   help="command template of the molremesh method; placeholders {molremesh} {input} {output} "
+                        "{target} {iterations} (default: %(default)s)")
+    p.add_argument("--iterations", type=int, default=10, help="iterations of CGAL and MeshLab (%(default)s)")
+    p.add_argument("--timeout", type=float, default=1800, help="seconds allowed to each remeshing (%(default)s)")
+    p.add_argument("--tetgen-timeout", type=float, default=600, help="seconds allowed to TetGen (%(default)s)")
+    p.add_argument("--samples", type=int, default=0,
+                   help="face samples per side for the Hausdorff distance (0 = one per face)")
+    p.add_argument("--threads", type=int, default=1, help="threads of mesh_distance (%(default)s)")
+    p.add_argument("--work-dir", help="keep outputs and logs here (default: a temporary folder, removed)")
+    p.add_argument("--from-json", help="run nothing: print and write the tables of a file written by --json")
+    args = p.parse_args()
+    signal.signal(signal.SIGTERM, _stop)
+    signal.signal(signal.SIGINT, _stop)
+
+    skip = {m for m in METHODS if getattr(args, "skip_" + m)}
+    methods = [m for m in METHODS if m not in skip]
+    floor = run_measured(["true"], 60)
+    MEMORY_FLOOR_MB[0] = floor.peak_mb or 0.0
+    if args.from_json:
+        with open(args.from_json) as f:
+            results = json.load(f)
+        for res in results:
+            print("\n### %s (L = %.4f)\n\n%s\n" % (res["mesh"], res["target_edge_length"], mesh_table(res)))
+    else:
+        results = run_all(args, skip, methods)
+
+    summary = summary_table(results, methods)
+    print("\n### Summary over %d meshes\n\n%s\n" % (len(results), summary))
+    legend = ("Summary: faces, time, SI pairs and boundary edges are sums over the meshes that ran; peak MB, "
+              "θmax, Hausdorff/L and the absolute volume change the largest; θmin and Qmin the smallest; the "
+              "percentages are medians; TetGen ok counts successes.")
+    if args.out != "-":
+        parts = ["# molremesh benchmark results", "", describe_run(args, methods), "", "## Summary", "", summary, "",
+                 legend, ""]
+        for res in results:
+            parts += ["## %s" % res["mesh"], "",
+                      "L = %.4f, bounding-box diagonal %.2f." % (res["target_edge_length"], res["bbox_diagonal"]),
+                      "", mesh_table(res), ""]
+            notes = [(METHOD_LABELS[r["method"]], r["status"]) for r in res["rows"] if r.get("status", "ok") != "ok"]
+            if notes:
+                parts += ["Not measured: " + "; ".join("%s: %s" % n for n in notes), ""]
+        with open(args.out, "w") as f:
+            f.write("\n".join(parts))
+        print("run_benchmarks: tables written to %s" % args.out, file=sys.stderr)
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump(results, f, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
