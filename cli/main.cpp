@@ -6,6 +6,7 @@
 
 #include <cstdio>
 #include <exception>
+#include <fstream>
 #include <iostream>
 #include <string>
 
@@ -15,6 +16,7 @@
 #include <vcg_ext/mesh_quality.h>
 #include <vcg_ext/mesh_types.h>
 #include <vcg_ext/quality_report_format.h>
+#include <vcg_ext/remesh_pipeline.h>
 
 #include "report_json.h"
 
@@ -49,7 +51,8 @@ int RunReport(const std::string& input, bool json, bool skipSelfIntersections) {
   } else {
     std::cout << "Quality report of " << input << "\n"
               << molremesh::FormatQualityTable(report, "value")
-              << "valence histogram (interior vertices): " << molremesh::FormatValenceHistogram(report) << '\n';
+              << "valence histogram (interior vertices): " << molremesh::FormatValenceHistogram(report)
+              << '\n';
   }
   return 0;
 }
@@ -70,6 +73,74 @@ int RunColor(const std::string& input, const std::string& output, double smallAn
   return 0;
 }
 
+struct RemeshOptions {
+  std::string stages;
+  double targetLength = 0;
+  std::uint64_t seed = 1;
+  int threads = 0;
+  int cvtIterations = 42;
+  int patches = 0;
+  std::string jsonPath;
+  bool quiet = false;
+};
+
+int RunRemesh(const std::string& input, const std::string& output, const RemeshOptions& options) {
+  using Pipeline = molremesh::RemeshPipeline<MeshD>;
+  Pipeline::Params params;
+  if (!options.stages.empty()) {
+    std::string error;
+    if (!molremesh::ParseStageList(options.stages, params.stages, error))
+      throw InputError("--stages: " + error);
+  }
+  params.targetEdgeLength = options.targetLength;
+  params.seed = options.seed;
+  params.threads = options.threads;
+  params.cvt.iterations = options.cvtIterations;
+  params.segment.patchCount = options.patches;
+  // The output format must be writable before hours of work are spent.
+  if (molremesh::FormatFromPath(output) == molremesh::MeshFormat::Unknown)
+    throw InputError("cannot write '" + output + "': unknown format (use .ply, .off, .obj or .stl)");
+
+  MeshD mesh;
+  LoadValidMesh(mesh, input);
+  auto log = [&options](const std::string& line) {
+    if (!options.quiet) std::cerr << "molremesh: " << line << std::endl;
+  };
+  const molremesh::PipelineResult result = Pipeline::Do(mesh, params, log);
+  if (!result.ok) throw InputError(result.message);
+
+  std::string error;
+  if (!molremesh::SaveMesh(mesh, output, error)) throw InputError(error);
+
+  std::vector<molremesh::NamedReport> columns{{"input", result.input}};
+  for (const auto& stage : result.stages) columns.emplace_back(stage.name, stage.after);
+  std::cout << "Remeshed " << input << " -> " << output << " (target edge length " << result.targetEdgeLength
+            << ", seed " << options.seed << ")\n"
+            << molremesh::FormatQualityTable(columns);
+  std::cout << "stage times (s):";
+  for (const auto& stage : result.stages) std::cout << ' ' << stage.name << '=' << stage.seconds;
+  std::cout << " total=" << result.seconds << '\n';
+  for (const auto& stage : result.stages)
+    if (!stage.summary.empty()) std::cout << "-- " << stage.name << ":\n" << stage.summary;
+
+  if (!options.jsonPath.empty()) {
+    nlohmann::json j;
+    j["input_file"] = input;
+    j["output_file"] = output;
+    j["target_edge_length"] = result.targetEdgeLength;
+    j["seed"] = options.seed;
+    j["seconds"] = result.seconds;
+    j["input"] = molremesh::ToJson(result.input);
+    for (const auto& stage : result.stages)
+      j["stages"].push_back({{"name", stage.name},
+                             {"seconds", stage.seconds},
+                             {"summary", stage.summary},
+                             {"after", molremesh::ToJson(stage.after)}});
+    std::ofstream(options.jsonPath) << j.dump(2) << '\n';
+  }
+  return 0;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -85,8 +156,8 @@ int main(int argc, char** argv) {
                    "Skip the self-intersection count (the slowest figure)");
 
   double smallAngle = 30.0, obtuseAngle = 90.0;
-  auto* color = app.add_subcommand(
-      "color", "Write a copy with irregular vertices and obtuse/small-angle faces colored, quality = valence / min angle");
+  auto* color = app.add_subcommand("color", "Write a copy with irregular vertices and obtuse/small-angle "
+                                            "faces colored, quality = valence / min angle");
   color->add_option("input", input, "Mesh file")->required();
   color->add_option("output", output, "Output mesh file (.ply keeps colors and quality)")->required();
   color->add_option("--small-angle", smallAngle, "Faces with an angle below it are blue (degrees)")
@@ -95,6 +166,33 @@ int main(int argc, char** argv) {
   color->add_option("--obtuse-angle", obtuseAngle, "Faces with an angle at or above it are red (degrees)")
       ->default_val(90.0)
       ->check(CLI::Range(60.0, 180.0));
+
+  RemeshOptions remeshOptions;
+  std::string stageHelp = "Comma-separated stages to run, in pipeline order (default: all):";
+  for (const auto& info : molremesh::PipelineStages()) stageHelp += std::string(" ") + info.name;
+  auto* remesh = app.add_subcommand("remesh", "Remesh a molecular surface (all stages, or --stages)");
+  remesh->add_option("input", input, "Mesh file (.ply, .off, .obj, .stl)")->required();
+  remesh->add_option("output", output, "Output mesh file")->required();
+  remesh->add_option("--stages", remeshOptions.stages, stageHelp);
+  remesh
+      ->add_option("--target-length", remeshOptions.targetLength,
+                   "Target edge length L (default: the cleaned input's mean edge length)")
+      ->check(CLI::NonNegativeNumber);
+  remesh->add_option("--seed", remeshOptions.seed, "Seed of every random choice")->default_val(1);
+  remesh
+      ->add_option("--threads", remeshOptions.threads,
+                   "Worker threads, 0 = all cores (output does not depend on it)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  remesh->add_option("--cvt-iterations", remeshOptions.cvtIterations, "Lloyd iterations of the CVT stage")
+      ->default_val(42)
+      ->check(CLI::Range(0, 10000));
+  remesh->add_option("--patches", remeshOptions.patches, "Patches of the segmentation, 0 = automatic")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  remesh->add_option("--json", remeshOptions.jsonPath,
+                     "Also write the per-stage figures as JSON to this file");
+  remesh->add_flag("--quiet", remeshOptions.quiet, "No progress lines on stderr");
 
   try {
     app.parse(argc, argv);
@@ -105,6 +203,7 @@ int main(int argc, char** argv) {
   try {
     if (*report) return RunReport(input, json, skipSelfIntersections);
     if (*color) return RunColor(input, output, smallAngle, obtuseAngle);
+    if (*remesh) return RunRemesh(input, output, remeshOptions);
   } catch (const InputError& e) {
     std::cerr << "molremesh: error: " << e.what() << '\n';
     return kExitBadInput;

@@ -31,6 +31,8 @@ inline nlohmann::json ToJson(const QualityReport& r) {
       {"non_finite_vertices", r.nonFiniteVertices},
       {"faces", r.faces},
       {"edges", r.edges},
+      {"mean_edge_length", FiniteOrNull(r.meanEdgeLength)},
+      {"median_edge_length", FiniteOrNull(r.medianEdgeLength)},
       {"q_min", FiniteOrNull(r.qMin)},
       {"q_avg", FiniteOrNull(r.qAvg)},
       {"angle_min_deg", FiniteOrNull(r.angleMin)},
@@ -62,6 +64,8 @@ inline nlohmann::json ToJson(const QualityReport& r) {
       {"degenerate_faces", r.degenerateFaces},
       {"self_intersecting_pairs",
        r.selfIntersectionsComputed ? nlohmann::json(r.selfIntersectingPairs) : nlohmann::json(nullptr)},
+      {"self_intersecting_faces",
+       r.selfIntersectionsComputed ? nlohmann::json(r.selfIntersectingFaces) : nlohmann::json(nullptr)},
       {"two_manifold", r.isTwoManifold()},
   };
 }

@@ -1,12 +1,17 @@
+// vcg_ext first: Qt (pulled in by the plugin header) defines `slots` and `signals` as macros,
+// which must not reach our templates.
+#include <vcg_ext/bad_element_coloring.h>
+#include <vcg_ext/input_check.h>
+#include <vcg_ext/mesh_copy.h>
+#include <vcg_ext/mesh_quality.h>
+#include <vcg_ext/mesh_types.h>
+#include <vcg_ext/quality_report_format.h>
+#include <vcg_ext/remesh_pipeline.h>
+
 #include "filter_molremesh.h"
 
 #include <sstream>
 #include <string>
-
-#include <vcg_ext/bad_element_coloring.h>
-#include <vcg_ext/input_check.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/quality_report_format.h>
 
 namespace {
 const char* const kPluginName = "FilterMolRemesh";
@@ -21,16 +26,27 @@ void LogLines(Logger&& log, const std::string& text) {
 } // namespace
 
 FilterMolRemeshPlugin::FilterMolRemeshPlugin() {
-  typeList << FP_QUALITY_REPORT << FP_COLOR_BAD_ELEMENTS;
+  typeList << FP_QUALITY_REPORT << FP_COLOR_BAD_ELEMENTS << FP_CLEAN_RAW_MESH << FP_CVT_INITIALIZATION
+           << FP_RANDOM_SEGMENTATION;
   for (FilterIDType id : types()) actionList << new QAction(filterName(id), this);
 }
 
-QString FilterMolRemeshPlugin::pluginName() const { return kPluginName; }
+QString FilterMolRemeshPlugin::pluginName() const {
+  return kPluginName;
+}
 
 QString FilterMolRemeshPlugin::filterName(FilterIDType filter) const {
   switch (filter) {
-  case FP_QUALITY_REPORT: return "Molecular Remesh: Quality Report";
-  case FP_COLOR_BAD_ELEMENTS: return "Molecular Remesh: Color Bad Elements";
+  case FP_QUALITY_REPORT:
+    return "Molecular Remesh: Quality Report";
+  case FP_COLOR_BAD_ELEMENTS:
+    return "Molecular Remesh: Color Bad Elements";
+  case FP_CLEAN_RAW_MESH:
+    return "Molecular Remesh: Clean Raw Mesh";
+  case FP_CVT_INITIALIZATION:
+    return "Molecular Remesh: CVT Initialization";
+  case FP_RANDOM_SEGMENTATION:
+    return "Molecular Remesh: Random Segmentation";
   }
   return "Molecular Remesh: unknown filter";
 }
@@ -47,7 +63,31 @@ QString FilterMolRemeshPlugin::filterInfo(FilterIDType filter) const {
     return "Colors elements for inspection. Per-vertex quality = valence; interior vertices whose valence is "
            "not 5, 6 or 7 are red. Per-face quality = minimal angle in degrees; obtuse faces are red, faces "
            "with an angle below the small-angle threshold are blue, faces that are both are magenta, all "
-           "others gray. Save with vertex/face color and quality (meshlabserver -m vc fc vq fq) to keep them.";
+           "others gray. Save with vertex/face color and quality (meshlabserver -m vc fc vq fq) to keep "
+           "them.";
+  case FP_CLEAN_RAW_MESH:
+    return "Stage 0 of molecular remeshing. Merges coincident vertices, removes unreferenced vertices, "
+           "duplicate "
+           "and zero-area faces, makes non-manifold edges and vertices manifold, orients every component "
+           "coherently (closed ones outward), repairs small self-intersecting tangles, closes small holes "
+           "and "
+           "removes components below a fraction of the faces. Every action is counted in the log; a vertex "
+           "that is already fine is never moved.";
+  case FP_CVT_INITIALIZATION:
+    return "Stage 1 of Khan et al. 2020: a centroidal Voronoi tessellation restricted to the surface and its "
+           "dual "
+           "triangulation, by Lloyd relaxation (42 iterations by default) of a triangulation whose "
+           "connectivity "
+           "only changes through guarded local operations, so the result stays 2-manifold, keeps every "
+           "component's genus, never connects sheets across narrow gaps and has no self-intersection. Needs "
+           "a "
+           "clean 2-manifold input (run Clean Raw Mesh first).";
+  case FP_RANDOM_SEGMENTATION:
+    return "Stage 3 of Khan et al. 2020: splits the surface into random patches grown from seeded faces "
+           "(their "
+           "borders are locked during patch-wise remeshing). Colors the faces by patch and stores the patch "
+           "id "
+           "in the per-face attribute 'molremesh_patch'. Geometry is not changed.";
   }
   return QString();
 }
@@ -56,18 +96,30 @@ MeshFilterInterface::FilterClass FilterMolRemeshPlugin::getClass(QAction*) {
   return MeshFilterInterface::Remeshing;
 }
 
-MeshFilterInterface::FILTER_ARITY FilterMolRemeshPlugin::filterArity(QAction*) const { return SINGLE_MESH; }
+MeshFilterInterface::FILTER_ARITY FilterMolRemeshPlugin::filterArity(QAction*) const {
+  return SINGLE_MESH;
+}
 
-int FilterMolRemeshPlugin::getPreConditions(QAction*) const { return MeshModel::MM_FACENUMBER; }
+int FilterMolRemeshPlugin::getPreConditions(QAction*) const {
+  return MeshModel::MM_FACENUMBER;
+}
 
-int FilterMolRemeshPlugin::getRequirements(QAction*) { return MeshModel::MM_NONE; }
+int FilterMolRemeshPlugin::getRequirements(QAction*) {
+  return MeshModel::MM_NONE;
+}
 
 int FilterMolRemeshPlugin::postCondition(QAction* action) const {
   switch (ID(action)) {
-  case FP_QUALITY_REPORT: return MeshModel::MM_NONE;
+  case FP_QUALITY_REPORT:
+    return MeshModel::MM_NONE;
   case FP_COLOR_BAD_ELEMENTS:
     return MeshModel::MM_VERTCOLOR | MeshModel::MM_FACECOLOR | MeshModel::MM_VERTQUALITY |
            MeshModel::MM_FACEQUALITY;
+  case FP_RANDOM_SEGMENTATION:
+    return MeshModel::MM_FACECOLOR;
+  case FP_CLEAN_RAW_MESH:
+  case FP_CVT_INITIALIZATION:
+    return MeshModel::MM_ALL;
   }
   return MeshModel::MM_NONE;
 }
@@ -81,10 +133,49 @@ void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel&, RichPa
     break;
   case FP_COLOR_BAD_ELEMENTS: {
     const molremesh::BadElementColoring<CMeshO>::Params defaults;
-    parameters.addParam(RichFloat("smallAngle", float(defaults.smallAngle), "Small angle (deg)",
-                                  "Faces with an angle below this are colored blue (magenta if also obtuse)."));
+    parameters.addParam(
+        RichFloat("smallAngle", float(defaults.smallAngle), "Small angle (deg)",
+                  "Faces with an angle below this are colored blue (magenta if also obtuse)."));
     parameters.addParam(RichFloat("obtuseAngle", float(defaults.obtuseAngle), "Obtuse angle (deg)",
                                   "Faces whose largest angle is at or above this are colored red."));
+    break;
+  }
+  case FP_CLEAN_RAW_MESH: {
+    const molremesh::CleanRawMesh<molremesh::MeshD>::Params defaults;
+    parameters.addParam(RichFloat("mergeTolerance", float(defaults.mergeTolerance), "Merge tolerance",
+                                  "Vertices closer than this times the mean edge length are merged."));
+    parameters.addParam(RichInt("maxHoleEdges", defaults.maxHoleEdges, "Largest hole to close (edges)",
+                                "Boundary loops with at most this many edges are closed."));
+    parameters.addParam(
+        RichFloat("minComponentPercent", float(100 * defaults.minComponentFraction),
+                  "Smallest component kept (% of faces)",
+                  "Components with fewer faces than this percentage are removed (and counted)."));
+    parameters.addParam(
+        RichBool("repairTangles", defaults.repairTangles, "Repair small tangles",
+                 "Remove and refill small self-intersecting or incoherently oriented regions."));
+    break;
+  }
+  case FP_CVT_INITIALIZATION: {
+    const molremesh::CvtInitialization<molremesh::MeshD>::Params defaults;
+    parameters.addParam(RichInt("iterations", defaults.iterations, "Lloyd iterations",
+                                "Lloyd relaxation iterations (42 in Khan et al. 2020)."));
+    parameters.addParam(
+        RichFloat("targetLength", 0.f, "Target edge length",
+                  "Target edge length in mesh units; 0 = the mean edge length of the input."));
+    parameters.addParam(RichInt("targetVertexCount", 0, "Target vertex count",
+                                "If > 0, the number of vertices wanted (overrides the target edge length)."));
+    parameters.addParam(RichInt("threads", 0, "Threads",
+                                "Worker threads; 0 = all cores. The result does not "
+                                "depend on it."));
+    break;
+  }
+  case FP_RANDOM_SEGMENTATION: {
+    const molremesh::RandomSegmentation<CMeshO>::Params defaults;
+    parameters.addParam(RichInt("patchCount", defaults.patchCount, "Patches",
+                                "Number of patches; 0 = automatic (one per 4000 faces, at least 1)."));
+    parameters.addParam(RichInt("seed", int(defaults.seed), "Seed",
+                                "Random seed: same mesh and seed give the same "
+                                "patches."));
     break;
   }
   }
@@ -96,8 +187,8 @@ bool FilterMolRemeshPlugin::fail(const QString& message) {
   return false;
 }
 
-bool FilterMolRemeshPlugin::applyFilter(QAction* action, MeshDocument& md, const RichParameterList& parameters,
-                                        vcg::CallBackPos*) {
+bool FilterMolRemeshPlugin::applyFilter(QAction* action, MeshDocument& md,
+                                        const RichParameterList& parameters, vcg::CallBackPos* cb) {
   MeshModel* mm = md.mm();
   if (mm == nullptr) return fail(filterName(ID(action)) + ": there is no current mesh layer");
   // Every precondition is checked before the layer is touched, so a refused layer stays as it was.
@@ -105,8 +196,16 @@ bool FilterMolRemeshPlugin::applyFilter(QAction* action, MeshDocument& md, const
   if (!check.ok) return fail(filterName(ID(action)) + ": " + QString::fromStdString(check.message));
 
   switch (ID(action)) {
-  case FP_QUALITY_REPORT: return qualityReport(*mm, parameters);
-  case FP_COLOR_BAD_ELEMENTS: return colorBadElements(*mm, parameters);
+  case FP_QUALITY_REPORT:
+    return qualityReport(*mm, parameters);
+  case FP_COLOR_BAD_ELEMENTS:
+    return colorBadElements(*mm, parameters);
+  case FP_RANDOM_SEGMENTATION:
+    return randomSegmentation(*mm, parameters);
+  case FP_CLEAN_RAW_MESH:
+    return runStages(*mm, {int(molremesh::PipelineStage::Clean)}, parameters, cb);
+  case FP_CVT_INITIALIZATION:
+    return runStages(*mm, {int(molremesh::PipelineStage::Cvt)}, parameters, cb);
   }
   return fail("unknown filter");
 }
@@ -137,6 +236,71 @@ bool FilterMolRemeshPlugin::colorBadElements(MeshModel& mm, const RichParameterL
   Log("Obtuse faces (red or magenta): %zu", counts.obtuseFaces);
   Log("Small-angle faces (blue or magenta): %zu", counts.smallAngleFaces);
   Log("Obtuse and small-angle faces (magenta): %zu", counts.obtuseAndSmallFaces);
+  return true;
+}
+
+bool FilterMolRemeshPlugin::randomSegmentation(MeshModel& mm, const RichParameterList& parameters) {
+  using Segmentation = molremesh::RandomSegmentation<CMeshO>;
+  Segmentation::Params params;
+  params.patchCount = parameters.getInt("patchCount");
+  params.seed = std::uint64_t(parameters.getInt("seed"));
+  if (params.patchCount < 0) return fail("Patches must be 0 (automatic) or more");
+  mm.updateDataMask(MeshModel::MM_FACEFACETOPO | MeshModel::MM_FACECOLOR);
+  vcg::tri::UpdateTopology<CMeshO>::FaceFace(mm.cm);
+  const molremesh::SegmentationResult result = Segmentation::Do(mm.cm, params);
+  if (!result.ok) return fail(QString::fromStdString(result.message));
+  Segmentation::ColorPatches(mm.cm, result);
+  auto patchAttribute = vcg::tri::Allocator<CMeshO>::GetPerFaceAttribute<int>(mm.cm, "molremesh_patch");
+  for (std::size_t i = 0; i < mm.cm.face.size(); ++i) patchAttribute[i] = result.facePatch[i];
+  Log("Random segmentation: %d patches, %zu border edges, %zu border vertices", result.patchCount,
+      result.borderEdges, result.borderVertices);
+  return true;
+}
+
+bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& stages,
+                                      const RichParameterList& parameters, vcg::CallBackPos* cb) {
+  using Pipeline = molremesh::RemeshPipeline<molremesh::MeshD>;
+  Pipeline::Params params;
+  params.stages.clear();
+  for (int stage : stages) params.stages.push_back(molremesh::PipelineStage(stage));
+  // Each filter declares only its own parameters; read the ones present.
+  if (parameters.hasParameter("mergeTolerance"))
+    params.clean.mergeTolerance = parameters.getFloat("mergeTolerance");
+  if (parameters.hasParameter("maxHoleEdges")) params.clean.maxHoleEdges = parameters.getInt("maxHoleEdges");
+  if (parameters.hasParameter("minComponentPercent"))
+    params.clean.minComponentFraction = parameters.getFloat("minComponentPercent") / 100.0;
+  if (parameters.hasParameter("repairTangles"))
+    params.clean.repairTangles = parameters.getBool("repairTangles");
+  if (parameters.hasParameter("iterations")) params.cvt.iterations = parameters.getInt("iterations");
+  if (parameters.hasParameter("targetLength")) params.targetEdgeLength = parameters.getFloat("targetLength");
+  if (parameters.hasParameter("targetVertexCount"))
+    params.cvt.targetVertexCount = std::size_t(std::max(0, parameters.getInt("targetVertexCount")));
+  if (parameters.hasParameter("threads")) params.threads = std::max(0, parameters.getInt("threads"));
+  if (parameters.hasParameter("seed")) params.seed = std::uint64_t(parameters.getInt("seed"));
+  if (params.cvt.iterations < 0) return fail("Lloyd iterations must be 0 or more");
+  if (params.targetEdgeLength < 0) return fail("Target edge length must be 0 (automatic) or more");
+
+  molremesh::MeshD work;
+  molremesh::CopyTriangles(work, mm.cm);
+  const molremesh::PipelineResult result = Pipeline::Do(
+      work, params, [this](const std::string& line) { Log(line.c_str()); }, cb);
+  if (!result.ok) return fail(QString::fromStdString(result.message));
+
+  std::vector<molremesh::NamedReport> columns{{"before", result.input}};
+  for (const auto& stage : result.stages) {
+    columns.emplace_back(stage.name, stage.after);
+    LogLines([this](const std::string& line) { Log(line); }, stage.summary);
+  }
+  LogLines([this](const std::string& line) { Log(line); }, molremesh::FormatQualityTable(columns));
+
+  // Success: replace the layer's triangles. Old per-element colors and qualities described the
+  // old triangles, so they are dropped with them.
+  mm.cm.Clear();
+  mm.clearDataMask(MeshModel::MM_VERTCOLOR | MeshModel::MM_FACECOLOR | MeshModel::MM_VERTQUALITY |
+                   MeshModel::MM_FACEQUALITY | MeshModel::MM_FACEFACETOPO | MeshModel::MM_VERTFACETOPO |
+                   MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_VERTTEXCOORD);
+  molremesh::CopyTriangles(mm.cm, work);
+  mm.UpdateBoxAndNormals();
   return true;
 }
 

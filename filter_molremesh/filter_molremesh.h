@@ -6,6 +6,8 @@
 
 #include <common/interfaces.h>
 
+#include <vector>
+
 class FilterMolRemeshPlugin : public QObject, public MeshFilterInterface {
   Q_OBJECT
   MESHLAB_PLUGIN_IID_EXPORTER(MESH_FILTER_INTERFACE_IID)
@@ -15,6 +17,9 @@ public:
   enum FilterId {
     FP_QUALITY_REPORT,
     FP_COLOR_BAD_ELEMENTS,
+    FP_CLEAN_RAW_MESH,
+    FP_CVT_INITIALIZATION,
+    FP_RANDOM_SEGMENTATION,
   };
 
   FilterMolRemeshPlugin();
@@ -34,6 +39,11 @@ public:
 private:
   bool qualityReport(MeshModel& mm, const RichParameterList& parameters);
   bool colorBadElements(MeshModel& mm, const RichParameterList& parameters);
+  bool randomSegmentation(MeshModel& mm, const RichParameterList& parameters);
+  /// Runs pipeline stages on a double-precision copy of the layer and writes the result back
+  /// only when every stage succeeded: a failure leaves the layer exactly as it was.
+  bool runStages(MeshModel& mm, const std::vector<int>& stages, const RichParameterList& parameters,
+                 vcg::CallBackPos* cb);
   /// Sets errorMessage (and logs it, so meshlabserver users see the reason too); returns false.
   bool fail(const QString& message);
 };

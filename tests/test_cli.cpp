@@ -9,7 +9,9 @@ using namespace molremesh::test;
 namespace {
 const std::string kCli = MOLREMESH_CLI_PATH;
 
-CommandResult Cli(const std::string& args) { return Run(Quote(kCli) + " " + args); }
+CommandResult Cli(const std::string& args) {
+  return Run(Quote(kCli) + " " + args);
+}
 
 // A bad input must end with exit status 2 (not a signal, not success) and one error line
 // naming the problem.
@@ -21,12 +23,24 @@ void ExpectInputError(const CommandResult& r, const std::string& expectedText) {
 }
 } // namespace
 
-TEST(Cli, MissingFile) { ExpectInputError(Cli("report /nonexistent/x.ply"), "no such file"); }
-TEST(Cli, EmptyFile) { ExpectInputError(Cli("report " + Quote(Fixture("empty.ply"))), "the file is empty"); }
-TEST(Cli, NotAMesh) { ExpectInputError(Cli("report " + Quote(Fixture("not_a_mesh.ply"))), "cannot read"); }
-TEST(Cli, UnknownExtension) { ExpectInputError(Cli("report " + Quote(Fixture("../CMakeLists.txt"))), "unknown format"); }
-TEST(Cli, PointCloud) { ExpectInputError(Cli("report " + Quote(Fixture("point_cloud.ply"))), "point cloud"); }
-TEST(Cli, NanCoordinates) { ExpectInputError(Cli("report " + Quote(Fixture("nan_vertex.ply"))), "NaN"); }
+TEST(Cli, MissingFile) {
+  ExpectInputError(Cli("report /nonexistent/x.ply"), "no such file");
+}
+TEST(Cli, EmptyFile) {
+  ExpectInputError(Cli("report " + Quote(Fixture("empty.ply"))), "the file is empty");
+}
+TEST(Cli, NotAMesh) {
+  ExpectInputError(Cli("report " + Quote(Fixture("not_a_mesh.ply"))), "cannot read");
+}
+TEST(Cli, UnknownExtension) {
+  ExpectInputError(Cli("report " + Quote(Fixture("../CMakeLists.txt"))), "unknown format");
+}
+TEST(Cli, PointCloud) {
+  ExpectInputError(Cli("report " + Quote(Fixture("point_cloud.ply"))), "point cloud");
+}
+TEST(Cli, NanCoordinates) {
+  ExpectInputError(Cli("report " + Quote(Fixture("nan_vertex.ply"))), "NaN");
+}
 
 TEST(Cli, UsageErrorExitsNonZero) {
   const CommandResult r = Cli("report");
@@ -55,7 +69,8 @@ TEST(Cli, DegenerateFacesAreReportedNotRefused) {
 TEST(Cli, ReportTableOnRealMesh) {
   const CommandResult r = Cli("report " + Quote(SharedMesh("bpti_1bpi_msms.ply")));
   ASSERT_EQ(r.exitCode, 0) << r.err;
-  for (const char* row : {"Qmin", "V567", "obtuse faces", "genus", "self-intersecting pairs", "valence histogram"})
+  for (const char* row :
+       {"Qmin", "V567", "obtuse faces", "genus", "self-intersecting pairs", "valence histogram"})
     EXPECT_NE(r.out.find(row), std::string::npos) << row;
 }
 

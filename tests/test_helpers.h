@@ -15,12 +15,14 @@ namespace molremesh::test {
 inline std::string SharedMesh(const std::string& name) {
   return std::string(MOLREMESH_SHARED_DATA_DIR) + "/meshes/" + name;
 }
-inline std::string Fixture(const std::string& name) { return std::string(MOLREMESH_TEST_DATA_DIR) + "/" + name; }
+inline std::string Fixture(const std::string& name) {
+  return std::string(MOLREMESH_TEST_DATA_DIR) + "/" + name;
+}
 
 /// A fresh empty folder under the system temp dir, removed by the caller when it wants.
 inline std::filesystem::path TempDir(const std::string& tag) {
-  auto dir = std::filesystem::temp_directory_path() /
-             ("molremesh_test_" + tag + "_" + std::to_string(::getpid()));
+  auto dir =
+      std::filesystem::temp_directory_path() / ("molremesh_test_" + tag + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
@@ -48,8 +50,10 @@ inline CommandResult Run(const std::string& commandLine) {
   const std::string full = commandLine + " >" + outPath.string() + " 2>" + errPath.string();
   const int status = std::system(full.c_str());
   CommandResult result;
-  if (status != -1 && WIFEXITED(status)) result.exitCode = WEXITSTATUS(status);
-  else if (status != -1 && WIFSIGNALED(status)) result.exitCode = 128 + WTERMSIG(status);
+  if (status != -1 && WIFEXITED(status))
+    result.exitCode = WEXITSTATUS(status);
+  else if (status != -1 && WIFSIGNALED(status))
+    result.exitCode = 128 + WTERMSIG(status);
   result.out = ReadFile(outPath);
   result.err = ReadFile(errPath);
   std::filesystem::remove(outPath);
@@ -57,6 +61,8 @@ inline CommandResult Run(const std::string& commandLine) {
   return result;
 }
 
-inline std::string Quote(const std::string& s) { return "'" + s + "'"; }
+inline std::string Quote(const std::string& s) {
+  return "'" + s + "'";
+}
 
 } // namespace molremesh::test

@@ -27,13 +27,15 @@ nlohmann::json CliReport(const std::string& mesh) {
   return nlohmann::json::parse(r.out);
 }
 
-CommandResult Server(const std::string& args) { return Run(Quote(kServer) + " " + args); }
+CommandResult Server(const std::string& args) {
+  return Run(Quote(kServer) + " " + args);
+}
 
 // Meshes small enough to keep the suite quick, covering MSMS slivers, marching-cubes holes and
 // non-manifold vertices, PyMOL self-intersections, GRASP obtuse triangles and several components.
-const std::vector<std::string> kMeshes = {"bpti_1bpi_msms.ply",         "lysozyme_Lys1_msms.ply",
-                                          "ubiquitin_1UBQ_edtsurf_mc.ply", "ubiquitin_1UBQ_pymol_ses.ply",
-                                          "galactose_grasp.ply",        "ache_1MAH_edtsurf_vcmc.ply"};
+const std::vector<std::string> kMeshes = {
+    "bpti_1bpi_msms.ply",           "lysozyme_Lys1_msms.ply", "ubiquitin_1UBQ_edtsurf_mc.ply",
+    "ubiquitin_1UBQ_pymol_ses.ply", "galactose_grasp.ply",    "ache_1MAH_edtsurf_vcmc.ply"};
 } // namespace
 
 TEST(MeshlabServer, ListsOurFilters) {
@@ -90,8 +92,8 @@ TEST_P(MeshlabServerOnMesh, QualityReportScriptLogsTheCliFigures) {
   const std::string input = SharedMesh(GetParam());
   const auto dir = TempDir("mls_report");
   const std::string logFile = (dir / "log.txt").string();
-  const CommandResult r =
-      Server("-l " + Quote(logFile) + " -i " + Quote(input) + " -s " + Quote(kScripts + "/quality_report.mlx"));
+  const CommandResult r = Server("-l " + Quote(logFile) + " -i " + Quote(input) + " -s " +
+                                 Quote(kScripts + "/quality_report.mlx"));
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   const std::string log = ReadFile(logFile) + r.out;
   const nlohmann::json expected = CliReport(input);
@@ -116,8 +118,8 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, MeshlabServerOnMesh, ::testing::ValuesIn(
                          });
 
 TEST(MeshlabServer, BadInputFailsWithOurMessageAndSavesNothing) {
-  for (const auto& [fixture, message] :
-       std::vector<std::pair<std::string, std::string>>{{"point_cloud.ply", "point cloud"}, {"nan_vertex.ply", "NaN"}}) {
+  for (const auto& [fixture, message] : std::vector<std::pair<std::string, std::string>>{
+           {"point_cloud.ply", "point cloud"}, {"nan_vertex.ply", "NaN"}}) {
     for (const char* script : {"quality_report.mlx", "color_bad_elements.mlx"}) {
       const auto dir = TempDir("mls_bad");
       const std::string output = (dir / "out.ply").string();
@@ -126,7 +128,8 @@ TEST(MeshlabServer, BadInputFailsWithOurMessageAndSavesNothing) {
                                      Quote(output) + " -s " + Quote(kScripts + "/" + script));
       // meshlabserver ends a failed script with exit(-1), i.e. status 255; a crash would be 128 + signal.
       EXPECT_EQ(r.exitCode, 255) << fixture << " " << script << "\n" << r.out << r.err;
-      EXPECT_NE((ReadFile(logFile) + r.out + r.err).find(message), std::string::npos) << fixture << " " << script;
+      EXPECT_NE((ReadFile(logFile) + r.out + r.err).find(message), std::string::npos)
+          << fixture << " " << script;
       EXPECT_FALSE(std::filesystem::exists(output)) << "a refused layer must not be saved";
       std::filesystem::remove_all(dir);
     }

@@ -6,6 +6,8 @@
 #include <QApplication>
 #include <QPluginLoader>
 
+#include <set>
+
 #include <common/GLLogStream.h>
 #include <common/interfaces.h>
 #include <common/meshmodel.h>
@@ -106,11 +108,15 @@ protected:
 
 const QString kReport = "Molecular Remesh: Quality Report";
 const QString kColor = "Molecular Remesh: Color Bad Elements";
+const QString kClean = "Molecular Remesh: Clean Raw Mesh";
+const QString kCvt = "Molecular Remesh: CVT Initialization";
+const QString kSegment = "Molecular Remesh: Random Segmentation";
+const QList<QString> kAllFilters = {kReport, kColor, kClean, kCvt, kSegment};
 
 } // namespace
 
 TEST_F(PluginTest, ExposesItsFiltersInTheRemeshingClass) {
-  for (const QString& name : {kReport, kColor}) {
+  for (const QString& name : kAllFilters) {
     QAction* action = FindFilter(plugin, name);
     ASSERT_NE(action, nullptr);
     EXPECT_TRUE(plugin->getClass(action) & MeshFilterInterface::Remeshing);
@@ -127,7 +133,7 @@ class PluginBadInput : public PluginTest, public ::testing::WithParamInterface<B
 
 TEST_P(PluginBadInput, EveryFilterRefusesAndLeavesTheLayerUntouched) {
   const BadInputCase c = GetParam();
-  for (const QString& name : {kReport, kColor}) {
+  for (const QString& name : kAllFilters) {
     MeshModel* mm = AddLayer(*c.fixture ? Fixture(c.fixture) : std::string());
     const LayerSnapshot before = LayerSnapshot::Of(*mm);
     EXPECT_FALSE(Apply(name, *mm)) << name.toStdString();
@@ -140,7 +146,8 @@ TEST_P(PluginBadInput, EveryFilterRefusesAndLeavesTheLayerUntouched) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Inputs, PluginBadInput,
-                         ::testing::Values(BadInputCase{"", "empty"}, BadInputCase{"point_cloud.ply", "point cloud"},
+                         ::testing::Values(BadInputCase{"", "empty"},
+                                           BadInputCase{"point_cloud.ply", "point cloud"},
                                            BadInputCase{"nan_vertex.ply", "NaN"}),
                          [](const auto& testParam) {
                            const std::string file = testParam.param.fixture;
@@ -171,12 +178,13 @@ TEST_F(PluginTest, ReportLogsTheTableOfARealMesh) {
 }
 
 TEST_F(PluginTest, ColoringAgreesWithTheQualityReport) {
-  for (const std::string& path : {SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), SharedMesh("lysozyme_Lys1_msms.ply"),
-                                   Fixture("nonmanifold_fan.ply"), Fixture("degenerate_faces.ply")}) {
+  for (const std::string& path :
+       {SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), SharedMesh("lysozyme_Lys1_msms.ply"),
+        Fixture("nonmanifold_fan.ply"), Fixture("degenerate_faces.ply")}) {
     MeshModel* mm = AddLayer(path);
     ASSERT_TRUE(Apply(kColor, *mm)) << plugin->errorMsg().toStdString();
-    EXPECT_TRUE(mm->hasDataMask(MeshModel::MM_VERTCOLOR | MeshModel::MM_FACECOLOR | MeshModel::MM_VERTQUALITY |
-                                MeshModel::MM_FACEQUALITY));
+    EXPECT_TRUE(mm->hasDataMask(MeshModel::MM_VERTCOLOR | MeshModel::MM_FACECOLOR |
+                                MeshModel::MM_VERTQUALITY | MeshModel::MM_FACEQUALITY));
     const molremesh::QualityReport report = molremesh::MeshQuality<CMeshO>::Compute(mm->cm);
     using Coloring = molremesh::BadElementColoring<CMeshO>;
     std::size_t red = 0, blue = 0, magenta = 0, redVertices = 0;
@@ -196,6 +204,53 @@ TEST_F(PluginTest, ColoringAgreesWithTheQualityReport) {
     EXPECT_EQ(redVertices, report.interiorVertices - report.regularVertices) << path;
     document.delMesh(mm);
   }
+}
+
+TEST_F(PluginTest, CleanMakesANonManifoldLayerManifold) {
+  MeshModel* mm = AddLayer(Fixture("nonmanifold_fan.ply"));
+  ASSERT_TRUE(Apply(kClean, *mm)) << plugin->errorMsg().toStdString();
+  const molremesh::QualityReport after = molremesh::MeshQuality<CMeshO>::Compute(mm->cm);
+  EXPECT_GT(after.faces, 0u);
+  EXPECT_EQ(after.nonManifoldEdges, 0u);
+  EXPECT_EQ(after.nonManifoldVertices, 0u);
+  EXPECT_EQ(after.degenerateFaces, 0u);
+  EXPECT_NE(LogText().find("removed non-manifold faces"), std::string::npos) << LogText();
+  document.delMesh(mm);
+}
+
+TEST_F(PluginTest, CleanClosesTheCracksOfARealMarchingCubesMesh) {
+  MeshModel* mm = AddLayer(SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"));
+  ASSERT_TRUE(Apply(kClean, *mm)) << plugin->errorMsg().toStdString();
+  const molremesh::QualityReport after = molremesh::MeshQuality<CMeshO>::Compute(mm->cm);
+  EXPECT_EQ(after.boundaryEdges, 0u);
+  EXPECT_TRUE(after.isTwoManifold());
+  EXPECT_EQ(after.selfIntersectingPairs, 0u);
+  EXPECT_GE(after.genus, 0);
+  document.delMesh(mm);
+}
+
+TEST_F(PluginTest, CvtRefusesANonManifoldLayerAndLeavesItUntouched) {
+  MeshModel* mm = AddLayer(Fixture("nonmanifold_fan.ply"));
+  const LayerSnapshot before = LayerSnapshot::Of(*mm);
+  EXPECT_FALSE(Apply(kCvt, *mm));
+  EXPECT_FALSE(plugin->errorMsg().isEmpty());
+  EXPECT_TRUE(LayerSnapshot::Of(*mm) == before);
+  document.delMesh(mm);
+}
+
+TEST_F(PluginTest, SegmentationColorsPatchesAndStoresTheirIds) {
+  MeshModel* mm = AddLayer(SharedMesh("lysozyme_Lys1_msms.ply"));
+  const LayerSnapshot before = LayerSnapshot::Of(*mm);
+  ASSERT_TRUE(Apply(kSegment, *mm)) << plugin->errorMsg().toStdString();
+  EXPECT_EQ(before.coords, LayerSnapshot::Of(*mm).coords) << "segmentation must not move vertices";
+  EXPECT_TRUE(mm->hasDataMask(MeshModel::MM_FACECOLOR));
+  ASSERT_TRUE(vcg::tri::HasPerFaceAttribute(mm->cm, "molremesh_patch"));
+  auto patch = vcg::tri::Allocator<CMeshO>::GetPerFaceAttribute<int>(mm->cm, "molremesh_patch");
+  std::set<int> ids;
+  for (std::size_t i = 0; i < mm->cm.face.size(); ++i) ids.insert(patch[i]);
+  EXPECT_GE(ids.size(), 2u);
+  EXPECT_EQ(ids.count(-1), 0u);
+  document.delMesh(mm);
 }
 
 int main(int argc, char** argv) {

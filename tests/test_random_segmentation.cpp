@@ -68,9 +68,10 @@ TEST(RandomSegmentation, EveryFaceInOneOfTheRequestedConnectedPatches) {
     ++sizes[p];
   }
   EXPECT_EQ(sizes.size(), 8u);
-  for (const auto& [patch, pieces] : PiecesPerPatch(m, s.facePatch)) EXPECT_EQ(pieces, 1) << "patch " << patch;
-  const auto [smallest, largest] = std::minmax_element(sizes.begin(), sizes.end(),
-                                                       [](auto& a, auto& b) { return a.second < b.second; });
+  for (const auto& [patch, pieces] : PiecesPerPatch(m, s.facePatch))
+    EXPECT_EQ(pieces, 1) << "patch " << patch;
+  const auto [smallest, largest] =
+      std::minmax_element(sizes.begin(), sizes.end(), [](auto& a, auto& b) { return a.second < b.second; });
   // Round-robin growth keeps patches of comparable size.
   EXPECT_LT(double(largest->second) / double(smallest->second), 6.0);
   EXPECT_GT(s.borderEdges, 0u);

@@ -16,9 +16,9 @@
 namespace molremesh {
 
 struct BadElementCounts {
-  std::size_t irregularVertices = 0; ///< red vertices
-  std::size_t obtuseFaces = 0;       ///< red or magenta faces
-  std::size_t smallAngleFaces = 0;   ///< blue or magenta faces
+  std::size_t irregularVertices = 0;   ///< red vertices
+  std::size_t obtuseFaces = 0;         ///< red or magenta faces
+  std::size_t smallAngleFaces = 0;     ///< blue or magenta faces
   std::size_t obtuseAndSmallFaces = 0; ///< magenta faces
 };
 
@@ -30,11 +30,26 @@ public:
     double obtuseAngle = 90.0; ///< degrees; a face whose max angle is >= it is red
   };
 
-  static const vcg::Color4b& IrregularVertexColor() { static const vcg::Color4b c(255, 0, 0, 255); return c; }
-  static const vcg::Color4b& NeutralColor() { static const vcg::Color4b c(200, 200, 200, 255); return c; }
-  static const vcg::Color4b& ObtuseFaceColor() { static const vcg::Color4b c(255, 0, 0, 255); return c; }
-  static const vcg::Color4b& SmallAngleFaceColor() { static const vcg::Color4b c(0, 0, 255, 255); return c; }
-  static const vcg::Color4b& ObtuseAndSmallFaceColor() { static const vcg::Color4b c(255, 0, 255, 255); return c; }
+  static const vcg::Color4b& IrregularVertexColor() {
+    static const vcg::Color4b c(255, 0, 0, 255);
+    return c;
+  }
+  static const vcg::Color4b& NeutralColor() {
+    static const vcg::Color4b c(200, 200, 200, 255);
+    return c;
+  }
+  static const vcg::Color4b& ObtuseFaceColor() {
+    static const vcg::Color4b c(255, 0, 0, 255);
+    return c;
+  }
+  static const vcg::Color4b& SmallAngleFaceColor() {
+    static const vcg::Color4b c(0, 0, 255, 255);
+    return c;
+  }
+  static const vcg::Color4b& ObtuseAndSmallFaceColor() {
+    static const vcg::Color4b c(255, 0, 255, 255);
+    return c;
+  }
 
   /// Writes per-vertex and per-face color and quality. Requires those four attributes to be
   /// enabled; touches nothing else (no geometry, no flags, no topology).

@@ -26,7 +26,8 @@ void CopyTriangles(MeshTo& to, const MeshFrom& from) {
   for (std::size_t i = 0; i < from.vert.size(); ++i) {
     if (newIndex[i] < 0) continue;
     const auto& p = from.vert[i].cP();
-    to.vert[std::size_t(newIndex[i])].P() = vcg::Point3<ScalarTo>(ScalarTo(p[0]), ScalarTo(p[1]), ScalarTo(p[2]));
+    to.vert[std::size_t(newIndex[i])].P() =
+        vcg::Point3<ScalarTo>(ScalarTo(p[0]), ScalarTo(p[1]), ScalarTo(p[2]));
   }
   (void)vi;
   int liveFaces = 0;
@@ -35,8 +36,7 @@ void CopyTriangles(MeshTo& to, const MeshFrom& from) {
   auto fi = vcg::tri::Allocator<MeshTo>::AddFaces(to, liveFaces);
   for (const auto& f : from.face) {
     if (f.IsD()) continue;
-    for (int k = 0; k < 3; ++k)
-      fi->V(k) = &to.vert[std::size_t(newIndex[vcg::tri::Index(from, f.cV(k))])];
+    for (int k = 0; k < 3; ++k) fi->V(k) = &to.vert[std::size_t(newIndex[vcg::tri::Index(from, f.cV(k))])];
     ++fi;
   }
 }

@@ -18,8 +18,8 @@ class VertexD : public vcg::Vertex<UsedTypesD, vcg::vertex::Coord3d, vcg::vertex
                                    vcg::vertex::VFAdj, vcg::vertex::Mark> {};
 
 class FaceD : public vcg::Face<UsedTypesD, vcg::face::VertexRef, vcg::face::Normal3d, vcg::face::Color4b,
-                               vcg::face::Qualityd, vcg::face::BitFlags, vcg::face::FFAdj,
-                               vcg::face::VFAdj, vcg::face::Mark> {};
+                               vcg::face::Qualityd, vcg::face::BitFlags, vcg::face::FFAdj, vcg::face::VFAdj,
+                               vcg::face::Mark> {};
 
 /// Triangle mesh with double coordinates, per-element color/quality/normal and FF/VF adjacency.
 class MeshD : public vcg::tri::TriMesh<std::vector<VertexD>, std::vector<FaceD>> {};

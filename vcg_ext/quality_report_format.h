@@ -23,7 +23,9 @@ inline std::string FormatNumber(double value, int decimals) {
   std::snprintf(buffer, sizeof buffer, "%.*f", decimals, value);
   return buffer;
 }
-inline std::string FormatCount(std::size_t value) { return std::to_string(value); }
+inline std::string FormatCount(std::size_t value) {
+  return std::to_string(value);
+}
 inline std::string FormatCountPercent(std::size_t count, double percent) {
   return std::to_string(count) + " (" + FormatNumber(percent, 2) + "%)";
 }
@@ -51,13 +53,19 @@ inline std::string FormatQualityTable(const std::vector<NamedReport>& columns) {
       {"V567 (% interior)", [](const QualityReport& r) { return FormatNumber(r.v567Percent, 2); }},
       {"irregular vertices",
        [](const QualityReport& r) { return FormatCount(r.interiorVertices - r.regularVertices); }},
-      {"faces angle < 30", [](const QualityReport& r) { return FormatCountPercent(r.smallAngleFaces, r.smallAnglePercent); }},
-      {"obtuse faces (>= 90)", [](const QualityReport& r) { return FormatCountPercent(r.obtuseFaces, r.obtusePercent); }},
-      {"faces angle > 120", [](const QualityReport& r) { return FormatCountPercent(r.largeAngleFaces, r.largeAnglePercent); }},
+      {"faces angle < 30",
+       [](const QualityReport& r) { return FormatCountPercent(r.smallAngleFaces, r.smallAnglePercent); }},
+      {"obtuse faces (>= 90)",
+       [](const QualityReport& r) { return FormatCountPercent(r.obtuseFaces, r.obtusePercent); }},
+      {"faces angle > 120",
+       [](const QualityReport& r) { return FormatCountPercent(r.largeAngleFaces, r.largeAnglePercent); }},
       {"area", [](const QualityReport& r) { return FormatNumber(r.area, 3); }},
       {"volume", [](const QualityReport& r) { return FormatNumber(r.volume, 3); }},
       {"Euler characteristic", [](const QualityReport& r) { return std::to_string(r.euler); }},
-      {"genus", [](const QualityReport& r) { return r.genus < 0 ? std::string("undefined") : std::to_string(r.genus); }},
+      {"genus",
+       [](const QualityReport& r) {
+         return r.genus < 0 ? std::string("undefined") : std::to_string(r.genus);
+       }},
       {"components", [](const QualityReport& r) { return FormatCount(r.components); }},
       {"boundary edges", [](const QualityReport& r) { return FormatCount(r.boundaryEdges); }},
       {"non-manifold edges", [](const QualityReport& r) { return FormatCount(r.nonManifoldEdges); }},
@@ -66,7 +74,8 @@ inline std::string FormatQualityTable(const std::vector<NamedReport>& columns) {
       {"degenerate faces", [](const QualityReport& r) { return FormatCount(r.degenerateFaces); }},
       {"self-intersecting pairs",
        [](const QualityReport& r) {
-         return r.selfIntersectionsComputed ? FormatCount(r.selfIntersectingPairs) : std::string("not computed");
+         return r.selfIntersectionsComputed ? FormatCount(r.selfIntersectingPairs)
+                                            : std::string("not computed");
        }},
   };
 

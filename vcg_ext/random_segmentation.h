@@ -21,9 +21,9 @@ namespace molremesh {
 struct SegmentationResult {
   bool ok = true;
   std::string message;
-  std::vector<int> facePatch;   ///< patch id of every face (indexed like m.face); -1 for deleted faces
-  int patchCount = 0;           ///< number of patches made
-  std::size_t borderEdges = 0;  ///< edges whose two faces lie in different patches
+  std::vector<int> facePatch;     ///< patch id of every face (indexed like m.face); -1 for deleted faces
+  int patchCount = 0;             ///< number of patches made
+  std::size_t borderEdges = 0;    ///< edges whose two faces lie in different patches
   std::size_t borderVertices = 0; ///< vertices on such an edge
 };
 
@@ -33,10 +33,10 @@ public:
   using FaceType = typename MeshType::FaceType;
 
   struct Params {
-    int patchCount = 0;            ///< patches wanted; 0 = automatic (DefaultPatchCount)
-    std::uint64_t seed = 1;        ///< random seed: same mesh + seed -> same patches
-    int facesPerPatchAuto = 4000;  ///< automatic count: one patch per this many faces ...
-    int maxAutoPatches = 256;      ///< ... at most this many
+    int patchCount = 0;           ///< patches wanted; 0 = automatic (DefaultPatchCount)
+    std::uint64_t seed = 1;       ///< random seed: same mesh + seed -> same patches
+    int facesPerPatchAuto = 4000; ///< automatic count: one patch per this many faces ...
+    int maxAutoPatches = 256;     ///< ... at most this many
   };
 
   /// The automatic patch count: enough patches to feed every core on large meshes, one on small ones.
@@ -54,7 +54,8 @@ public:
       result.message = "the mesh has no faces";
       return result;
     }
-    const int wanted = params.patchCount > 0 ? std::min(params.patchCount, m.fn) : DefaultPatchCount(m, params);
+    const int wanted =
+        params.patchCount > 0 ? std::min(params.patchCount, m.fn) : DefaultPatchCount(m, params);
     const std::size_t faceCount = m.face.size();
     std::vector<int>& patch = result.facePatch;
     patch.assign(faceCount, -1);
@@ -65,7 +66,8 @@ public:
     for (std::size_t i = 0; i < faceCount; ++i)
       if (!m.face[i].IsD()) live.push_back(i);
     std::mt19937_64 engine(params.seed);
-    for (std::size_t i = live.size(); i > 1; --i) { // Fisher-Yates with our own draw: portable across libstdc++ versions
+    for (std::size_t i = live.size(); i > 1;
+         --i) { // Fisher-Yates with our own draw: portable across libstdc++ versions
       const std::size_t j = std::size_t(engine() % i);
       std::swap(live[i - 1], live[j]);
     }

@@ -1,0 +1,656 @@
+// Stage 1 of Khan et al. 2020: centroidal Voronoi tessellation (CVT) initialization.
+//
+// CvtInitialization<MeshType>::Do turns a clean molecular surface into a CVT-like triangulation
+// with target edge length L: the vertices are the sites of a centroidal Voronoi tessellation
+// restricted to the input surface and the triangles are its dual (Delaunay) triangulation.
+//
+// Instead of computing a restricted Voronoi diagram and rebuilding connectivity from it (which
+// breaks on molecular surfaces: sheets a fraction of L apart get connected across the gap, and
+// boundary or non-manifold cells appear), the input triangulation itself is evolved, and its
+// connectivity only ever changes through the guarded local operations of LocalRemeshingOps:
+//  1. sampling: edges longer than 4/3 L are split and edges shorter than 4/5 L collapsed, a few
+//     passes; then, one round per Lloyd iteration during the first third of them, the vertex
+//     count is brought to the one a uniform CVT of edge L has on this area,
+//     V = 2 A / (sqrt(3) L^2), by splitting the longest / collapsing the shortest edges;
+//  2. Lloyd relaxation (Params::iterations, 42 as in the paper): every vertex moves to the
+//     centroid of its Voronoi cell, projected back onto the input near the vertex's previous
+//     footpoint; after each verification (below) edges are flipped until the triangulation is
+//     Delaunay again;
+//  3. volume restoration: vertices on the input's flat triangles cut convex regions short, so
+//     each closed component is finally offset along its normals (at most 0.05 L by default) to
+//     enclose the input's volume again.
+// Since splits, collapses (link condition) and flips preserve the topology of a 2-manifold, the
+// output is manifold, each closed component stays closed with its genus, and two sheets are
+// never joined across a gap; every edit is also checked for folds, angles and intersections.
+//
+// The Voronoi cell of a vertex is approximated on its one-ring: in each incident triangle, the
+// part closer to the vertex than to the triangle's two other corners (the triangle clipped by
+// the two perpendicular bisectors). The cell centroid is the area-weighted mean of these
+// polygons' centroids. This is exact for the Delaunay triangulation of non-obtuse triangles,
+// stays well defined for obtuse ones (where the circumcentre-based cell pieces would have
+// negative area), and uses only the current triangulation's connectivity, so a cell can never
+// leak onto a nearby sheet.
+//
+// Speed, parallelism and determinism: the cell centroids are accumulated face by face (each
+// thread owns a range of vertices) and projected in parallel, Jacobi style, from the positions
+// at the start of the iteration. The moves are applied at once and verified every
+// Params::verifyEvery iterations (and always before any other edit) by
+// LocalRemeshingOps::VerifyPendingMoves: every changed face is checked in parallel (angles,
+// normals, folds, and one sweep over all faces for intersecting pairs); vertices of failing
+// faces go back to their last verified position. Every step writes per-element results or runs
+// in a fixed order, so the output is bit-identical for any thread count.
+#pragma once
+
+#include <vcg/complex/complex.h>
+
+#include <vcg_ext/input_check.h>
+#include <vcg_ext/local_remeshing_ops.h>
+#include <vcg_ext/parallel_for.h>
+#include <vcg_ext/reference_surface.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace molremesh {
+
+template <class MeshType>
+class CvtInitialization {
+public:
+  using VertexType = typename MeshType::VertexType;
+  using FaceType = typename MeshType::FaceType;
+  using VertexPointer = typename MeshType::VertexPointer;
+  using FacePointer = typename MeshType::FacePointer;
+  using Ops = LocalRemeshingOps<MeshType>;
+  using Point = vcg::Point3d;
+
+  struct Params {
+    double targetEdgeLength = 0;       ///< L; 0 = the input's mean edge length
+    std::size_t targetVertexCount = 0; ///< > 0: L = sqrt(2 A / (sqrt(3) V)) for the input area A (overrides L)
+    int iterations = 42;               ///< Lloyd iterations (Khan et al.'s default)
+    int samplingPasses = 4;            ///< split / collapse passes before the Lloyd iterations
+    double splitFactor = 4.0 / 3.0;    ///< sampling splits edges longer than this x L
+    double collapseFactor = 4.0 / 5.0; ///< sampling collapses edges shorter than this x L
+    bool matchVertexCount = true;      ///< then split / collapse to the vertex count of a CVT with edge L
+    double vertexCountTolerance = 0.005; ///< relative; the count is matched within it
+    bool delaunayFlips = true;         ///< flip to Delaunay after every verification of the Lloyd moves
+    double maxFlipsPerVertex = 2.0;    ///< bound on the flips of one Delaunay restoration, per vertex
+    double minMoveFactor = 1e-6;       ///< Lloyd moves shorter than this x L are skipped (converged)
+    int verifyEvery = 4;               ///< Lloyd iterations between two verifications + Delaunay flip passes
+                                       ///< (the first two and the last iteration are always verified)
+    int threads = 0;                   ///< worker threads; 0 = all cores (the result does not depend on it)
+    LocalOpsGuards guards;             ///< thresholds of the local operations
+    bool preserveVolume = true;        ///< finally offset each closed component along its vertex normals so
+                                       ///< that it encloses the input's volume again (see RestoreVolume)
+    double maxVolumeOffset = 0.05;     ///< bound on that offset, in units of L (keeps vertices near the input)
+    typename ReferenceSurface<MeshType>::Params reference; ///< for the reference built by Do(m, params)
+  };
+
+  struct Result {
+    bool ok = false;
+    std::string message;                ///< why it failed, or a one-line summary
+    double targetEdgeLength = 0;        ///< L actually used
+    std::size_t verticesIn = 0, facesIn = 0, verticesOut = 0, facesOut = 0;
+    std::size_t splits = 0, collapses = 0, flips = 0; ///< applied operations (all phases)
+    std::size_t movesApplied = 0;       ///< Lloyd vertex moves made
+    std::size_t movesRejected = 0;      ///< vertices put back to their last verified position (or refused)
+    int verifications = 0;              ///< verification + flip passes of the Lloyd phase
+    std::size_t refusedOperations = 0;  ///< all refused single operations (splits, collapses, flips)
+    LocalOpsStats operations;           ///< counts of the local operations, refusals by reason
+    int iterations = 0;                 ///< Lloyd iterations done
+    double lastMeanMove = 0;            ///< mean Lloyd displacement of the last iteration, in units of L
+    double volumeOffset = 0;            ///< largest |normal offset| of the volume restoration, in units of L
+    double seconds = 0;                 ///< wall time of Do
+    double secondsSampling = 0;         ///< of which: sampling and vertex count matching
+    double secondsCentroids = 0;        ///< of which: cell centroids and their projection
+    double secondsMoves = 0;            ///< of which: applying and verifying the Lloyd moves
+    double secondsFlips = 0;            ///< of which: Delaunay flips
+  };
+
+  /// Remeshes m in place. m must be a 2-manifold, consistently oriented triangle mesh with
+  /// FF and VF adjacency enabled (MeshLab: MM_FACEFACETOPO | MM_VERTFACETOPO); the reference
+  /// surface is a copy of m taken on entry. Refused inputs (empty, point cloud, NaN, non-manifold,
+  /// misoriented) are left untouched and reported in Result::message.
+  static Result Do(MeshType& m, const Params& params = Params(), vcg::CallBackPos* cb = nullptr) {
+    return Run(m, nullptr, params, cb);
+  }
+
+  /// Same, projecting onto a reference surface the caller keeps (e.g. the cleaned input kept
+  /// for the whole pipeline). m must lie on (or very near) it.
+  static Result Do(MeshType& m, const ReferenceSurface<MeshType>& reference, const Params& params = Params(),
+                   vcg::CallBackPos* cb = nullptr) {
+    return Run(m, &reference, params, cb);
+  }
+
+  /// Area-weighted centroid of the one-ring approximation of v's Voronoi cell (see the file
+  /// comment). Returns v's position when its star has no area. Thread-safe (reads only).
+  static Point CellCentroid(const VertexType& v);
+
+  /// Area (x2) and area-weighted centroid (x2) of the part of triangle (p0, p1, p2) closer to p0
+  /// than to p1 and p2: the triangle clipped by the two perpendicular bisectors through p0.
+  static void CornerPiece(const Point& p0, const Point& p1, const Point& p2, double& area, Point& weighted);
+
+private:
+  struct EdgeCandidate {
+    double length2;
+    std::uint32_t a, b; // vertex indices, a < b
+    std::uint64_t key;  // Morton code of the midpoint (spatial order)
+  };
+
+  static Result Run(MeshType& m, const ReferenceSurface<MeshType>* external, const Params& params,
+                    vcg::CallBackPos* cb);
+  static void Progress(vcg::CallBackPos* cb, double fraction, const char* what) {
+    if (cb != nullptr) cb(int(std::clamp(fraction, 0.0, 1.0) * 100.0), what);
+  }
+  /// Mean length over the face sides: interior edges count twice and border edges once, which
+  /// on a closed mesh is the mean over distinct edges (MeshQuality's figure).
+  static double MeanEdgeLength(const MeshType& m) {
+    double sum = 0;
+    std::size_t count = 0;
+    for (const auto& f : m.face) {
+      if (f.IsD()) continue;
+      for (int k = 0; k < 3; ++k) sum += (Ops::ToPoint(f.cV(k)->cP()) - Ops::ToPoint(f.cV((k + 1) % 3)->cP())).Norm();
+      count += 3;
+    }
+    return count > 0 ? sum / double(count) : 0.0;
+  }
+  static std::size_t LiveVertices(const MeshType& m) {
+    std::size_t n = 0;
+    for (const auto& v : m.vert)
+      if (!v.IsD() && v.cVFp() != nullptr) ++n;
+    return n;
+  }
+  /// Edges with length^2 above (longer = true) or below the threshold: longest / shortest first,
+  /// or, when cell > 0, along a Morton curve of their midpoints (cells of that size), so that
+  /// consecutive edits touch the same memory.
+  static void CollectEdges(const MeshType& m, double threshold2, bool longer, double cell,
+                           std::vector<EdgeCandidate>& out);
+  static std::size_t SplitPass(Ops& ops, double threshold, std::size_t limit, std::vector<EdgeCandidate>& edges);
+  static std::size_t CollapsePass(Ops& ops, double threshold, double maxNewEdge, std::size_t limit,
+                                  std::vector<EdgeCandidate>& edges);
+  /// Flips non-Delaunay edges (guarded) until none is left or the flip budget is spent: all
+  /// edges are tested in parallel, then a work list is processed serially; each flip queues the
+  /// four edges around it.
+  static std::size_t DelaunayFlips(Ops& ops, int threads, double maxFlipsPerVertex);
+  /// Vertices on the input's flat triangles enclose less volume than the input where the
+  /// surface is convex (longer chords cut more off). Each closed component is offset along its
+  /// (area-weighted) vertex normals by delta = (V_input - V) / A, twice (the second pass removes
+  /// the curvature term), through the verified batch move. Returns the largest |delta|.
+  static double RestoreVolume(Ops& ops, const ReferenceSurface<MeshType>& reference, double maxOffset, int threads);
+};
+
+// ------------------------------------------------------------------------------------------------
+// Implementation
+// ------------------------------------------------------------------------------------------------
+
+template <class MeshType>
+void CvtInitialization<MeshType>::CornerPiece(const Point& p0, const Point& p1, const Point& p2, double& area,
+                                              Point& weighted) {
+  const Point e1 = p1 - p0, e2 = p2 - p0;
+  if (e1 * e2 >= 0 && (p0 - p1) * (p2 - p1) >= 0 && (p0 - p2) * (p1 - p2) >= 0) {
+    // Non-obtuse: the piece is the quad (p0, mid01, circumcentre, mid02).
+    const Point n = e1 ^ e2;
+    const double n2 = n.SquaredNorm();
+    if (n2 > 0) {
+      const Point c = p0 + ((e2 ^ n) * e1.SquaredNorm() + (n ^ e1) * e2.SquaredNorm()) / (2.0 * n2);
+      const Point m01 = (p0 + p1) * 0.5, m02 = (p0 + p2) * 0.5;
+      const double inv = 1.0 / std::sqrt(n2);
+      const double a1 = std::max(0.0, ((m01 - p0) ^ (c - p0)) * n * inv);
+      const double a2 = std::max(0.0, ((c - p0) ^ (m02 - p0)) * n * inv);
+      area = a1 + a2;
+      weighted = (p0 + m01 + c) * (a1 / 3.0) + (p0 + c + m02) * (a2 / 3.0);
+      return;
+    }
+  }
+  std::array<Point, 8> poly{}, clipped{};
+  int n = 3;
+  poly[0] = p0;
+  poly[1] = p1;
+  poly[2] = p2;
+  for (const Point* q : {&p1, &p2}) {
+    const Point dir = *q - p0;
+    const Point mid = (p0 + *q) * 0.5;
+    int m = 0;
+    for (int i = 0; i < n; ++i) {
+      const Point& a = poly[i];
+      const Point& b = poly[(i + 1) % n];
+      const double da = (a - mid) * dir, db = (b - mid) * dir;
+      if (da <= 0) clipped[m++] = a;
+      if ((da < 0 && db > 0) || (da > 0 && db < 0)) clipped[m++] = a + (b - a) * (da / (da - db));
+    }
+    n = m;
+    std::copy(clipped.begin(), clipped.begin() + n, poly.begin());
+  }
+  area = 0;
+  weighted = Point(0, 0, 0);
+  for (int i = 1; i + 1 < n; ++i) {
+    const double twice = ((poly[i] - poly[0]) ^ (poly[i + 1] - poly[0])).Norm();
+    area += twice;
+    weighted += (poly[0] + poly[i] + poly[i + 1]) * (twice / 3.0);
+  }
+}
+
+template <class MeshType>
+vcg::Point3d CvtInitialization<MeshType>::CellCentroid(const VertexType& v) {
+  const Point p0 = Ops::ToPoint(v.cP());
+  if (v.cVFp() == nullptr) return p0;
+  double areaSum = 0;
+  Point weightedSum(0, 0, 0);
+  for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&v)); !it.End(); ++it) {
+    const int k = it.I();
+    double area;
+    Point weighted;
+    CornerPiece(p0, Ops::ToPoint(it.F()->cV((k + 1) % 3)->cP()), Ops::ToPoint(it.F()->cV((k + 2) % 3)->cP()), area,
+                weighted);
+    areaSum += area;
+    weightedSum += weighted;
+  }
+  if (!(areaSum > 0)) return p0;
+  return weightedSum / areaSum;
+}
+
+template <class MeshType>
+void CvtInitialization<MeshType>::CollectEdges(const MeshType& m, double threshold2, bool longer, double cell,
+                                               std::vector<EdgeCandidate>& out) {
+  out.clear();
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    for (int e = 0; e < 3; ++e) {
+      const FaceType* g = f.cFFp(e);
+      if (g != &f && g < &f) continue; // each interior edge once
+      const double l2 = (Ops::ToPoint(f.cV(e)->cP()) - Ops::ToPoint(f.cV((e + 1) % 3)->cP())).SquaredNorm();
+      if (longer ? l2 > threshold2 : l2 < threshold2) {
+        std::uint32_t a = std::uint32_t(vcg::tri::Index(m, f.cV(e)));
+        std::uint32_t b = std::uint32_t(vcg::tri::Index(m, f.cV((e + 1) % 3)));
+        if (b < a) std::swap(a, b);
+        out.push_back({l2, a, b, 0});
+      }
+    }
+  }
+  if (cell > 0 && !out.empty()) {
+    auto spread = [](std::uint64_t x) { // 21 bits -> every third bit
+      x &= 0x1fffff;
+      x = (x | x << 32) & 0x1f00000000ffffULL;
+      x = (x | x << 16) & 0x1f0000ff0000ffULL;
+      x = (x | x << 8) & 0x100f00f00f00f00fULL;
+      x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+      x = (x | x << 2) & 0x1249249249249249ULL;
+      return x;
+    };
+    vcg::Box3d box;
+    for (const auto& v : m.vert)
+      if (!v.IsD()) box.Add(Ops::ToPoint(v.cP()));
+    for (EdgeCandidate& e : out) {
+      const Point mid = (Ops::ToPoint(m.vert[e.a].cP()) + Ops::ToPoint(m.vert[e.b].cP())) * 0.5;
+      for (int k = 0; k < 3; ++k)
+        e.key |= spread(std::uint64_t(std::clamp((mid[k] - box.min[k]) / cell, 0.0, double(0x1fffff)))) << k;
+    }
+    std::sort(out.begin(), out.end(), [](const EdgeCandidate& x, const EdgeCandidate& y) {
+      return std::tie(x.key, x.a, x.b) < std::tie(y.key, y.a, y.b);
+    });
+    return;
+  }
+  std::sort(out.begin(), out.end(), [longer](const EdgeCandidate& x, const EdgeCandidate& y) {
+    if (x.length2 != y.length2) return longer ? x.length2 > y.length2 : x.length2 < y.length2;
+    return std::tie(x.a, x.b) < std::tie(y.a, y.b);
+  });
+}
+
+template <class MeshType>
+std::size_t CvtInitialization<MeshType>::SplitPass(Ops& ops, double threshold, std::size_t limit,
+                                                   std::vector<EdgeCandidate>& edges) {
+  MeshType& m = ops.Mesh();
+  const bool all = limit == std::numeric_limits<std::size_t>::max();
+  CollectEdges(m, threshold * threshold, true, all ? 2.0 * ops.TargetEdgeLength() : 0.0, edges);
+  std::size_t done = 0;
+  for (const EdgeCandidate& e : edges) {
+    if (done >= limit) break;
+    FacePointer f = nullptr;
+    int z = 0;
+    // Indices stay valid while vertices are added; pointers are fetched afresh every time.
+    if (!ops.FindEdge(&m.vert[e.a], &m.vert[e.b], f, z)) continue;
+    const double l2 = (Ops::ToPoint(f->V(z)->cP()) - Ops::ToPoint(f->V((z + 1) % 3)->cP())).SquaredNorm();
+    if (!(l2 > threshold * threshold)) continue;
+    if (ops.SplitEdge(f, z) != nullptr) ++done;
+  }
+  return done;
+}
+
+template <class MeshType>
+std::size_t CvtInitialization<MeshType>::CollapsePass(Ops& ops, double threshold, double maxNewEdge,
+                                                      std::size_t limit, std::vector<EdgeCandidate>& edges) {
+  MeshType& m = ops.Mesh();
+  const bool all = limit == std::numeric_limits<std::size_t>::max();
+  CollectEdges(m, threshold * threshold, false, all ? 2.0 * ops.TargetEdgeLength() : 0.0, edges);
+  std::size_t done = 0;
+  for (const EdgeCandidate& e : edges) {
+    if (done >= limit) break;
+    if (m.vert[e.a].IsD() || m.vert[e.b].IsD()) continue;
+    FacePointer f = nullptr;
+    int z = 0;
+    if (!ops.FindEdge(&m.vert[e.a], &m.vert[e.b], f, z)) continue;
+    const double l2 = (Ops::ToPoint(f->V(z)->cP()) - Ops::ToPoint(f->V((z + 1) % 3)->cP())).SquaredNorm();
+    if (!(l2 < threshold * threshold)) continue;
+    if (ops.CollapseEdge(f, z, maxNewEdge)) ++done;
+  }
+  return done;
+}
+
+template <class MeshType>
+std::size_t CvtInitialization<MeshType>::DelaunayFlips(Ops& ops, int threads, double maxFlipsPerVertex) {
+  MeshType& m = ops.Mesh();
+  std::vector<std::uint8_t> bad(m.face.size(), 0);
+  ParallelFor(m.face.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const FaceType& f = m.face[i];
+      if (f.IsD()) continue;
+      for (int e = 0; e < 3; ++e) {
+        const FaceType* g = f.cFFp(e);
+        if (g != &f && &f < g && !ops.IsDelaunay(f, e)) bad[i] |= std::uint8_t(1u << e);
+      }
+    }
+  });
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> queue; // edges as vertex index pairs
+  for (std::size_t i = 0; i < m.face.size(); ++i)
+    for (int e = 0; e < 3; ++e)
+      if (bad[i] & (1u << e))
+        queue.emplace_back(std::uint32_t(vcg::tri::Index(m, m.face[i].cV(e))),
+                           std::uint32_t(vcg::tri::Index(m, m.face[i].cV((e + 1) % 3))));
+  const std::size_t budget = std::size_t(maxFlipsPerVertex * double(m.vn)) + 16;
+  std::size_t flips = 0;
+  for (std::size_t head = 0; head < queue.size() && flips < budget; ++head) {
+    const auto [a, b] = queue[head];
+    FacePointer f = nullptr;
+    int z = 0;
+    if (!ops.FindEdge(&m.vert[a], &m.vert[b], f, z) || ops.IsDelaunay(*f, z)) continue;
+    // The quad around the edge, before the flip: its four sides may stop being Delaunay.
+    FacePointer g = f->FFp(z);
+    const std::uint32_t c = std::uint32_t(vcg::tri::Index(m, f->V((z + 2) % 3)));
+    const std::uint32_t d = std::uint32_t(vcg::tri::Index(m, g->V((f->FFi(z) + 2) % 3)));
+    if (!ops.FlipEdge(f, z)) continue;
+    ++flips;
+    for (const auto& side : {std::make_pair(a, c), std::make_pair(c, b), std::make_pair(b, d), std::make_pair(d, a)})
+      queue.push_back(side);
+  }
+  return flips;
+}
+
+template <class MeshType>
+double CvtInitialization<MeshType>::RestoreVolume(Ops& ops, const ReferenceSurface<MeshType>& reference,
+                                                  double maxOffset, int threads) {
+  MeshType& m = ops.Mesh();
+  ops.VerifyPendingMoves(threads);
+  // Components of the working mesh through FF, each with the reference component it lies on.
+  std::vector<int> component(m.face.size(), -1);
+  std::vector<int> refComponent;
+  std::vector<bool> closed;
+  std::vector<int> stack;
+  for (std::size_t f0 = 0; f0 < m.face.size(); ++f0) {
+    if (m.face[f0].IsD() || component[f0] >= 0) continue;
+    const int c = int(refComponent.size());
+    refComponent.push_back(reference.Component(ops.Footpoint(*m.face[f0].cV(0))));
+    closed.push_back(true);
+    component[f0] = c;
+    stack.assign(1, int(f0));
+    while (!stack.empty()) {
+      FaceType& f = m.face[stack.back()];
+      stack.pop_back();
+      for (int e = 0; e < 3; ++e) {
+        FaceType* g = f.FFp(e);
+        if (g == &f) {
+          closed[c] = false;
+          continue;
+        }
+        const std::size_t gi = vcg::tri::Index(m, g);
+        if (component[gi] < 0) {
+          component[gi] = c;
+          stack.push_back(int(gi));
+        }
+      }
+    }
+  }
+  const std::size_t nc = refComponent.size();
+  const Point origin = reference.BoundingBox().Center();
+  double largest = 0;
+  std::vector<double> volume(nc), area(nc), delta(nc), offset(nc, 0.0);
+  std::vector<Point> normal(m.vert.size());
+  std::vector<int> vertexComponent(m.vert.size(), -1);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::fill(volume.begin(), volume.end(), 0.0);
+    std::fill(area.begin(), area.end(), 0.0);
+    std::fill(normal.begin(), normal.end(), Point(0, 0, 0));
+    for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
+      const FaceType& f = m.face[fi];
+      if (f.IsD()) continue;
+      const Point p0 = Ops::ToPoint(f.cV(0)->cP()), p1 = Ops::ToPoint(f.cV(1)->cP()), p2 = Ops::ToPoint(f.cV(2)->cP());
+      const Point cross = (p1 - p0) ^ (p2 - p0);
+      const int c = component[fi];
+      volume[c] += ((p0 - origin) * ((p1 - origin) ^ (p2 - origin))) / 6.0;
+      area[c] += 0.5 * cross.Norm();
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t vi = vcg::tri::Index(m, f.cV(k));
+        normal[vi] += cross;
+        vertexComponent[vi] = c;
+      }
+    }
+    for (std::size_t c = 0; c < nc; ++c) {
+      const int rc = refComponent[c];
+      const bool usable = closed[c] && rc >= 0 && reference.ComponentClosed(rc) && area[c] > 0;
+      const double wanted = usable ? (reference.ComponentVolume(rc) - volume[c]) / area[c] : 0.0;
+      // The total offset of a component stays within maxOffset.
+      const double total = std::clamp(offset[c] + wanted, -maxOffset, maxOffset);
+      delta[c] = total - offset[c];
+      offset[c] = total;
+      largest = std::max(largest, std::fabs(total));
+    }
+    for (std::size_t vi = 0; vi < m.vert.size(); ++vi) {
+      VertexType& v = m.vert[vi];
+      if (v.IsD() || v.VFp() == nullptr || vertexComponent[vi] < 0 || delta[vertexComponent[vi]] == 0) continue;
+      const double len = normal[vi].Norm();
+      if (!(len > 0)) continue;
+      const Point p = Ops::ToPoint(v.cP());
+      ops.MoveVertexUnchecked(&v, p + normal[vi] * (delta[vertexComponent[vi]] / len), ops.Footpoint(v));
+    }
+    ops.VerifyPendingMoves(threads);
+  }
+  return largest;
+}
+
+template <class MeshType>
+typename CvtInitialization<MeshType>::Result
+CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* external, const Params& params,
+                                 vcg::CallBackPos* cb) {
+  const auto start = std::chrono::steady_clock::now();
+  Result result;
+  auto finish = [&](bool ok, const std::string& message) {
+    result.ok = ok;
+    result.message = message;
+    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+  };
+
+  // --- Preconditions (nothing is touched before they pass) ------------------------------------
+  const InputCheck check = CheckTriangleMeshInput(m);
+  if (!check.ok) return finish(false, "CVT initialization refused: " + check.message);
+  if (!vcg::tri::HasFFAdjacency(m) || !vcg::tri::HasVFAdjacency(m))
+    return finish(false, "CVT initialization refused: face-face and vertex-face adjacency must be enabled");
+  if (params.iterations < 0) return finish(false, "CVT initialization refused: negative iteration count");
+  {
+    std::string error;
+    if (!Ops::PrepareTopology(m, &error)) return finish(false, "CVT initialization refused: " + error);
+  }
+  result.verticesIn = std::size_t(m.vn);
+  result.facesIn = std::size_t(m.fn);
+
+  std::unique_ptr<ReferenceSurface<MeshType>> own;
+  const ReferenceSurface<MeshType>* reference = external;
+  if (reference == nullptr) {
+    own = std::make_unique<ReferenceSurface<MeshType>>();
+    std::string error;
+    if (!own->Build(m, params.reference, &error))
+      return finish(false, "CVT initialization refused: " + error);
+    reference = own.get();
+  }
+
+  double L = params.targetEdgeLength > 0 ? params.targetEdgeLength : MeanEdgeLength(m);
+  if (params.targetVertexCount > 0) L = std::sqrt(2.0 * reference->Area() / (std::sqrt(3.0) * double(params.targetVertexCount)));
+  if (!(L > 0) || !std::isfinite(L)) return finish(false, "CVT initialization refused: no valid target edge length");
+  result.targetEdgeLength = L;
+
+  Ops ops(m, *reference, L, params.guards, params.threads);
+  {
+    std::string error;
+    // Each vertex's own face is tried as its footpoint first (Init checks it by position), so a
+    // reference built from m itself costs no closest-point search.
+    if (!ops.Init(&error, true, true)) return finish(false, "CVT initialization refused: " + error);
+  }
+
+  // --- 1. Sampling ------------------------------------------------------------------------------
+  auto now = [] { return std::chrono::steady_clock::now(); };
+  auto since = [](std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+  };
+  auto phase = now();
+  const int threads = ResolveThreadCount(params.threads);
+  std::vector<EdgeCandidate> edges;
+  const std::size_t unlimited = std::numeric_limits<std::size_t>::max();
+  const double splitLength = params.splitFactor * L, collapseLength = params.collapseFactor * L;
+  for (int pass = 0; pass < params.samplingPasses; ++pass) {
+    Progress(cb, 0.1 * pass / std::max(1, params.samplingPasses), "CVT: sampling");
+    std::size_t changed = SplitPass(ops, splitLength, unlimited, edges);
+    changed += CollapsePass(ops, collapseLength, splitLength, unlimited, edges);
+    if (params.delaunayFlips) DelaunayFlips(ops, threads, params.maxFlipsPerVertex);
+    if (changed == 0) break;
+  }
+  result.secondsSampling += since(phase);
+  // Vertex count of a uniform CVT with edge L: each vertex owns a hexagon of area sqrt(3)/2 L^2.
+  const double wanted = 2.0 * reference->Area() / (std::sqrt(3.0) * L * L);
+  auto matchCount = [&]() {
+    const double have = double(LiveVertices(m));
+    const double tolerance = std::max(1.0, params.vertexCountTolerance * wanted);
+    if (std::fabs(have - wanted) <= tolerance) return;
+    if (have < wanted) SplitPass(ops, L, std::size_t(wanted - have), edges);
+    else CollapsePass(ops, L, splitLength, std::size_t(have - wanted), edges);
+  };
+
+  // --- 2. Lloyd iterations ----------------------------------------------------------------------
+  std::vector<typename ReferenceSurface<MeshType>::Scratch> scratch(threads);
+  std::vector<std::uint32_t> movable;
+  std::vector<Point> position, target;
+  std::vector<int> targetFoot;
+  std::vector<double> moveLength, cellArea;
+  std::vector<Point> cellWeighted;
+  const double minMove2 = params.minMoveFactor * L * params.minMoveFactor * L;
+  std::size_t applied = 0, rejected = 0;
+  for (int it = 0; it < params.iterations; ++it) {
+    Progress(cb, 0.1 + 0.9 * it / std::max(1, params.iterations), "CVT: Lloyd relaxation");
+    phase = now();
+    if (params.matchVertexCount && it < std::max(1, params.iterations / 3)) matchCount();
+    result.secondsSampling += since(phase);
+    phase = now();
+
+    // Cell centroids, accumulated face by face: every thread reads all faces and sums into the
+    // vertices it owns, so each vertex's sum runs in face order whatever the thread count.
+    const std::size_t nv = m.vert.size();
+    position.resize(nv);
+    ParallelFor(nv, threads, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t i = begin; i < end; ++i) position[i] = Ops::ToPoint(m.vert[i].cP());
+    });
+    cellArea.assign(nv, 0.0);
+    cellWeighted.assign(nv, Point(0, 0, 0));
+    const std::size_t owners = std::size_t(threads);
+    ParallelFor(owners, threads, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t owner = begin; owner < end; ++owner) {
+        const std::size_t lo = nv * owner / owners, hi = nv * (owner + 1) / owners;
+        for (const FaceType& f : m.face) {
+          if (f.IsD()) continue;
+          const std::array<std::size_t, 3> vi{std::size_t(vcg::tri::Index(m, f.cV(0))),
+                                              std::size_t(vcg::tri::Index(m, f.cV(1))),
+                                              std::size_t(vcg::tri::Index(m, f.cV(2)))};
+          for (int k = 0; k < 3; ++k) {
+            if (vi[k] < lo || vi[k] >= hi) continue;
+            double area;
+            Point weighted;
+            CornerPiece(position[vi[k]], position[vi[(k + 1) % 3]], position[vi[(k + 2) % 3]], area, weighted);
+            cellArea[vi[k]] += area;
+            cellWeighted[vi[k]] += weighted;
+          }
+        }
+      }
+    }, 1);
+
+    movable.clear();
+    for (std::size_t i = 0; i < nv; ++i) {
+      const VertexType& v = m.vert[i];
+      if (v.IsD() || v.cVFp() == nullptr || !(cellArea[i] > 0) || ops.IsLocked(v) || ops.IsBoundaryVertex(v)) continue;
+      movable.push_back(std::uint32_t(i));
+    }
+    target.resize(movable.size());
+    targetFoot.resize(movable.size());
+    moveLength.resize(movable.size());
+    ParallelFor(movable.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const std::uint32_t vi = movable[i];
+        const Point c = cellWeighted[vi] / cellArea[vi];
+        const SurfaceProjection proj = reference->Project(c, ops.Footpoint(m.vert[vi]), scratch[t]);
+        target[i] = proj.point;
+        targetFoot[i] = proj.face;
+        moveLength[i] = proj.ok() ? (proj.point - position[vi]).SquaredNorm() : 0.0;
+      }
+    });
+    result.secondsCentroids += since(phase);
+    phase = now();
+
+    // Converged sites (and failed projections) stay; the others move, verified every few
+    // iterations (a failing vertex goes back to its last verified position).
+    double moveSum = 0;
+    for (std::size_t i = 0; i < movable.size(); ++i) {
+      if (!(moveLength[i] > minMove2) || targetFoot[i] < 0) continue;
+      moveSum += std::sqrt(moveLength[i]);
+      if (ops.MoveVertexUnchecked(&m.vert[movable[i]], target[i], targetFoot[i])) ++applied;
+      else ++rejected;
+    }
+    result.lastMeanMove = movable.empty() ? 0.0 : moveSum / double(movable.size()) / L;
+    const bool last = it + 1 == params.iterations;
+    const bool verify = last || it < 2 || params.verifyEvery <= 1 || (it + 1) % params.verifyEvery == 0;
+    if (verify) {
+      const BatchMoveResult checked = ops.VerifyPendingMoves(threads);
+      rejected += checked.rejected;
+      ++result.verifications;
+    }
+    result.secondsMoves += since(phase);
+    phase = now();
+    if (verify && params.delaunayFlips) DelaunayFlips(ops, threads, params.maxFlipsPerVertex);
+    result.secondsFlips += since(phase);
+    result.iterations = it + 1;
+  }
+  if (params.matchVertexCount && params.iterations == 0) matchCount();
+
+  if (params.preserveVolume)
+    result.volumeOffset = RestoreVolume(ops, *reference, params.maxVolumeOffset * L, threads) / L;
+
+  const LocalOpsStats& stats = ops.Stats();
+  result.splits = stats.splits;
+  result.collapses = stats.collapses;
+  result.flips = stats.flips;
+  result.movesApplied = applied;
+  result.movesRejected = rejected;
+  result.refusedOperations = stats.Refused();
+  result.operations = stats;
+  ops.Finish();
+  result.verticesOut = std::size_t(m.vn);
+  result.facesOut = std::size_t(m.fn);
+  Progress(cb, 1.0, "CVT: done");
+  return finish(true, "CVT initialization: " + std::to_string(result.verticesIn) + " -> " +
+                          std::to_string(result.verticesOut) + " vertices, L = " + std::to_string(L) + ", " +
+                          std::to_string(result.iterations) + " Lloyd iterations");
+}
+
+} // namespace molremesh

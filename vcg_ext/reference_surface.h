@@ -1,0 +1,510 @@
+// The input surface every remeshing stage projects onto, kept alive for the whole pipeline.
+//
+// ReferenceSurface<MeshType> copies the live faces of a vcg triangle mesh into double precision
+// arrays, with face-to-face adjacency (through shared edges) and a static uniform grid. Stages
+// move and create vertices on the working mesh and bring them back onto this surface with
+// Project(point, hintFace): the closest point *near the previous footpoint*, found by walking
+// the reference faces around hintFace, never by a global query. Molecular surfaces have sheets
+// a fraction of an edge length apart (crevices between atoms); a global closest-point query
+// would snap a vertex that drifted into such a crevice onto the facing sheet and tear the
+// working mesh across the gap. The walk only crosses faces that touch the ball around the
+// point whose radius is the distance to the hint, and only faces whose normal agrees with the
+// hint face's, so it stays on the sheet the vertex came from.
+//
+// It also knows its connected components (closed or not, with their enclosed volumes), which
+// the stages use to restore each component's volume. Optionally (Params::phongAlpha > 0) Project
+// returns points on the Phong tessellation of the input (the curved surface through the input
+// vertices with their normals) instead of on its flat triangles; off by default, because on
+// sliver-ridden inputs the vertex normals are poor and the lift can exceed 0.1 L.
+//
+// Thread safety: after Build, every const member is safe to call concurrently provided each
+// thread passes its own Scratch to Project (the overload without Scratch uses an internal one
+// and is not thread-safe).
+#pragma once
+
+#include <vcg/complex/complex.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace molremesh {
+
+/// Result of a projection onto a ReferenceSurface.
+struct SurfaceProjection {
+  vcg::Point3d point{0, 0, 0};  ///< closest point found on the reference
+  vcg::Point3d normal{0, 0, 0}; ///< unit normal of the reference face holding it (0 if degenerate)
+  int face = -1;                ///< reference face holding it; -1 when nothing was found
+  double distance = std::numeric_limits<double>::infinity(); ///< |query - point|
+  bool ok() const { return face >= 0; }
+};
+
+namespace reference_detail {
+
+using Point = vcg::Point3d;
+
+/// Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection, 5.1.5),
+/// with a segment fallback for degenerate triangles where the barycentric solve is undefined.
+inline Point ClosestPointOnSegment(const Point& p, const Point& a, const Point& b) {
+  const Point ab = b - a;
+  const double len2 = ab.SquaredNorm();
+  if (!(len2 > 0)) return a;
+  const double t = std::clamp(((p - a) * ab) / len2, 0.0, 1.0);
+  return a + ab * t;
+}
+
+inline Point ClosestPointOnTriangle(const Point& p, const Point& a, const Point& b, const Point& c) {
+  const Point ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab * ap, d2 = ac * ap;
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Point bp = p - b;
+  const double d3 = ab * bp, d4 = ac * bp;
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Point cp = p - c;
+  const double d5 = ab * cp, d6 = ac * cp;
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double sum = va + vb + vc;
+  if (!(std::fabs(sum) > 0) || !std::isfinite(1.0 / sum)) {
+    // Degenerate (collinear) triangle: the closest point lies on one of its edges.
+    Point best = ClosestPointOnSegment(p, a, b);
+    for (const Point& q : {ClosestPointOnSegment(p, b, c), ClosestPointOnSegment(p, c, a)})
+      if ((q - p).SquaredNorm() < (best - p).SquaredNorm()) best = q;
+    return best;
+  }
+  const double inv = 1.0 / sum;
+  return a + ab * (vb * inv) + ac * (vc * inv);
+}
+
+/// Squared distance from p to the closed box b (0 inside).
+inline double SquaredDistanceToBox(const Point& p, const vcg::Box3d& b) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = std::max({b.min[k] - p[k], 0.0, p[k] - b.max[k]});
+    d2 += d * d;
+  }
+  return d2;
+}
+
+} // namespace reference_detail
+
+template <class MeshType>
+class ReferenceSurface {
+public:
+  using Point = vcg::Point3d;
+
+  struct Params {
+    double searchRadius = 0;        ///< Project never looks farther than this from the query; 0 = 3 x mean edge length
+    double maxNormalAngleDeg = 90;  ///< Project skips faces whose normal is farther than this from the hint face's
+    int maxVisitedFaces = 4096;     ///< bound on the faces one Project call examines
+    double gridCellFactor = 2.0;    ///< global grid cell size, in mean edge lengths
+    double phongAlpha = 0.0;        ///< Project lifts onto the Phong tessellation of the input, blended by
+                                    ///< this factor (0: the flat triangles themselves)
+  };
+
+  /// Per-thread working memory of Project (visited marks). Cheap to keep, costly to create per call.
+  class Scratch {
+  public:
+    Scratch() = default;
+
+  private:
+    friend class ReferenceSurface;
+    std::vector<std::uint32_t> visited_;
+    std::uint32_t stamp_ = 0;
+    std::vector<int> stack_;
+  };
+
+  ReferenceSurface() = default;
+  ReferenceSurface(const ReferenceSurface&) = delete;
+  ReferenceSurface& operator=(const ReferenceSurface&) = delete;
+
+  /// Copies the live faces of m (deleted faces and faces with a null or repeated vertex are
+  /// skipped) and builds the adjacency and the grid. m is not modified and may be destroyed
+  /// afterwards. Returns false with a message when m has no usable face or a non-finite
+  /// coordinate on a face.
+  bool Build(const MeshType& m, const Params& params = Params(), std::string* error = nullptr);
+
+  bool Empty() const { return faceCount_ == 0; }
+  std::size_t FaceCount() const { return faceCount_; }
+  double MeanEdgeLength() const { return meanEdge_; }
+  double Area() const { return area_; }
+  const vcg::Box3d& BoundingBox() const { return box_; }
+  const Params& GetParams() const { return params_; }
+
+  /// Corner i of reference face f.
+  const Point& Corner(int f, int i) const { return faces_[f].p[i]; }
+  /// Unit normal of reference face f (0 for a degenerate face).
+  const Point& FaceNormal(int f) const { return faces_[f].n; }
+  /// Connected components (through shared edges): count, the component of face f, whether it
+  /// is closed (every edge has exactly two faces) and its signed enclosed volume (meaningful
+  /// when closed; positive for outward-oriented faces).
+  std::size_t ComponentCount() const { return componentVolume_.size(); }
+  int Component(int f) const { return component_[f]; }
+  bool ComponentClosed(int c) const { return componentClosed_[c]; }
+  double ComponentVolume(int c) const { return componentVolume_[c]; }
+  /// Index in m.face of the face reference face f was copied from.
+  std::size_t SourceFace(int f) const { return sourceFace_[f]; }
+  /// Reference face copied from m.face[i], or -1 (deleted or index-degenerate face, or out of range).
+  int ReferenceFaceOf(std::size_t meshFaceIndex) const {
+    return meshFaceIndex < referenceOf_.size() ? referenceOf_[meshFaceIndex] : -1;
+  }
+
+  /// Closest point of the reference near p, found by a walk from hintFace (see the file
+  /// comment). hintFace < 0 falls back to ProjectGlobal. Thread-safe with one Scratch per thread.
+  SurfaceProjection Project(const Point& p, int hintFace, Scratch& scratch) const;
+  /// Same, with an internal scratch: not thread-safe.
+  SurfaceProjection Project(const Point& p, int hintFace) const { return Project(p, hintFace, ownScratch_); }
+
+  /// Globally closest point of the reference (grid search). Thread-safe.
+  SurfaceProjection ProjectGlobal(const Point& p) const;
+  /// Distance from p to the reference (global). Thread-safe.
+  double Distance(const Point& p) const { return ProjectGlobal(p).distance; }
+
+private:
+  struct Face {
+    std::array<Point, 3> p{Point(0, 0, 0), Point(0, 0, 0), Point(0, 0, 0)}; ///< corners
+    Point n{0, 0, 0};                                                       ///< unit normal, 0 if degenerate
+    vcg::Box3d box;
+    std::array<Point, 3> vn{Point(0, 0, 0), Point(0, 0, 0), Point(0, 0, 0)}; ///< corner normals (Phong lift)
+  };
+  /// q (a point of face f) moved onto the Phong-tessellated surface, blended by phongAlpha.
+  Point Lift(const Point& q, int f) const;
+
+  SurfaceProjection ClosestOnFace(const Point& p, int f) const {
+    SurfaceProjection r;
+    const Face& face = faces_[f];
+    r.point = reference_detail::ClosestPointOnTriangle(p, face.p[0], face.p[1], face.p[2]);
+    r.normal = face.n;
+    r.face = f;
+    r.distance = (r.point - p).Norm();
+    return r;
+  }
+  void BuildAdjacency(const std::vector<std::array<std::uint32_t, 3>>& tris);
+  void BuildGrid();
+
+  Params params_;
+  std::size_t faceCount_ = 0;
+  std::vector<Face> faces_;
+  std::vector<std::uint32_t> neighborStart_, neighbors_; ///< faces sharing an edge, CSR
+  std::vector<std::size_t> sourceFace_;
+  std::vector<int> component_;
+  std::vector<double> componentVolume_;
+  std::vector<bool> componentClosed_;
+  std::vector<int> referenceOf_;
+  double meanEdge_ = 0, area_ = 0, searchRadius_ = 0, cosMaxNormalAngle_ = 0;
+  vcg::Box3d box_;
+
+  // Static uniform grid, CSR over dense cells.
+  double cell_ = 1;
+  std::array<int, 3> dims_{1, 1, 1};
+  std::vector<std::uint32_t> cellStart_, cellFaces_;
+
+  mutable Scratch ownScratch_;
+};
+
+// ------------------------------------------------------------------------------------------------
+// Implementation
+// ------------------------------------------------------------------------------------------------
+
+template <class MeshType>
+bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, std::string* error) {
+  params_ = params;
+  faces_.clear();
+  sourceFace_.clear();
+  referenceOf_.assign(m.face.size(), -1);
+  box_.SetNull();
+  area_ = 0;
+  faceCount_ = 0;
+
+  const auto* vertBegin = m.vert.empty() ? nullptr : &m.vert[0];
+  std::vector<std::array<std::uint32_t, 3>> tris;
+  tris.reserve(m.face.size());
+  double edgeSum = 0;
+  std::size_t edgeCount = 0;
+  for (std::size_t i = 0; i < m.face.size(); ++i) {
+    const auto& f = m.face[i];
+    if (f.IsD() || f.cV(0) == nullptr || f.cV(1) == nullptr || f.cV(2) == nullptr) continue;
+    if (f.cV(0) == f.cV(1) || f.cV(1) == f.cV(2) || f.cV(2) == f.cV(0)) continue;
+    Face face;
+    std::array<std::uint32_t, 3> tri{};
+    for (int k = 0; k < 3; ++k) {
+      const auto& c = f.cV(k)->cP();
+      face.p[k] = Point(double(c[0]), double(c[1]), double(c[2]));
+      if (!std::isfinite(face.p[k][0]) || !std::isfinite(face.p[k][1]) || !std::isfinite(face.p[k][2])) {
+        if (error) *error = "the reference surface has a vertex with a NaN or infinite coordinate";
+        faces_.clear();
+        return false;
+      }
+      tri[k] = std::uint32_t(f.cV(k) - vertBegin);
+      face.box.Add(face.p[k]);
+    }
+    const Point n = (face.p[1] - face.p[0]) ^ (face.p[2] - face.p[0]);
+    const double len = n.Norm();
+    face.n = len > 0 ? n / len : Point(0, 0, 0);
+    area_ += 0.5 * len;
+    for (int k = 0; k < 3; ++k) edgeSum += (face.p[(k + 1) % 3] - face.p[k]).Norm();
+    edgeCount += 3;
+    box_.Add(face.box);
+    referenceOf_[i] = int(faces_.size());
+    sourceFace_.push_back(i);
+    faces_.push_back(face);
+    tris.push_back(tri);
+  }
+  faceCount_ = faces_.size();
+  if (params_.phongAlpha > 0 && faceCount_ > 0) {
+    // Angle-weighted vertex normals.
+    std::vector<Point> vertexNormal(m.vert.size(), Point(0, 0, 0));
+    for (std::size_t f = 0; f < faceCount_; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const Point u = faces_[f].p[(k + 1) % 3] - faces_[f].p[k], w = faces_[f].p[(k + 2) % 3] - faces_[f].p[k];
+        vertexNormal[tris[f][k]] += faces_[f].n * std::atan2((u ^ w).Norm(), u * w);
+      }
+    for (auto& n : vertexNormal) {
+      const double len = n.Norm();
+      if (len > 0) n /= len;
+    }
+    for (std::size_t f = 0; f < faceCount_; ++f)
+      for (int k = 0; k < 3; ++k) faces_[f].vn[k] = vertexNormal[tris[f][k]];
+  }
+  if (faceCount_ == 0) {
+    if (error) *error = "the reference surface has no face";
+    return false;
+  }
+  // Interior edges are counted twice, boundary edges once: close enough for a length scale.
+  meanEdge_ = edgeSum / double(edgeCount);
+  if (!(meanEdge_ > 0)) meanEdge_ = std::max(box_.Diag(), 1.0);
+  searchRadius_ = params_.searchRadius > 0 ? params_.searchRadius : 3.0 * meanEdge_;
+  cosMaxNormalAngle_ = std::cos(params_.maxNormalAngleDeg * 3.14159265358979323846 / 180.0);
+  BuildAdjacency(tris);
+  BuildGrid();
+  return true;
+}
+
+template <class MeshType>
+void ReferenceSurface<MeshType>::BuildAdjacency(const std::vector<std::array<std::uint32_t, 3>>& tris) {
+  // Sorted (edge key, face) table; faces sharing an edge are mutual neighbours (all of them
+  // on a non-manifold edge).
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
+  edges.reserve(tris.size() * 3);
+  for (std::size_t f = 0; f < tris.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint64_t a = tris[f][k], b = tris[f][(k + 1) % 3];
+      edges.emplace_back((std::min(a, b) << 32) | std::max(a, b), std::uint32_t(f));
+    }
+  std::sort(edges.begin(), edges.end());
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  pairs.reserve(edges.size());
+  std::vector<std::uint8_t> onOddEdge(faceCount_, 0); // on an edge without exactly two faces
+  for (std::size_t i = 0; i < edges.size();) {
+    std::size_t j = i;
+    while (j < edges.size() && edges[j].first == edges[i].first) ++j;
+    if (j - i != 2)
+      for (std::size_t a = i; a < j; ++a) onOddEdge[edges[a].second] = 1;
+    for (std::size_t a = i; a < j; ++a)
+      for (std::size_t b = i; b < j; ++b)
+        if (a != b && edges[a].second != edges[b].second) pairs.emplace_back(edges[a].second, edges[b].second);
+    i = j;
+  }
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  neighborStart_.assign(faceCount_ + 1, 0);
+  for (const auto& pr : pairs) ++neighborStart_[pr.first + 1];
+  for (std::size_t f = 0; f < faceCount_; ++f) neighborStart_[f + 1] += neighborStart_[f];
+  neighbors_.resize(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) neighbors_[i] = pairs[i].second;
+
+  // Components through shared edges (numbered by their lowest face), closedness, volume.
+  component_.assign(faceCount_, -1);
+  componentVolume_.clear();
+  componentClosed_.clear();
+  const Point origin = box_.Center();
+  std::vector<int> stack;
+  for (std::size_t f0 = 0; f0 < faceCount_; ++f0) {
+    if (component_[f0] >= 0) continue;
+    const int c = int(componentVolume_.size());
+    componentVolume_.push_back(0.0);
+    componentClosed_.push_back(true);
+    component_[f0] = c;
+    stack.assign(1, int(f0));
+    while (!stack.empty()) {
+      const int f = stack.back();
+      stack.pop_back();
+      const Face& face = faces_[f];
+      componentVolume_[c] += ((face.p[0] - origin) * ((face.p[1] - origin) ^ (face.p[2] - origin))) / 6.0;
+      if (onOddEdge[f]) componentClosed_[c] = false;
+      for (std::uint32_t k = neighborStart_[f]; k < neighborStart_[f + 1]; ++k)
+        if (component_[neighbors_[k]] < 0) {
+          component_[neighbors_[k]] = c;
+          stack.push_back(int(neighbors_[k]));
+        }
+    }
+  }
+}
+
+template <class MeshType>
+void ReferenceSurface<MeshType>::BuildGrid() {
+  const Point extent = box_.Dim();
+  cell_ = params_.gridCellFactor * meanEdge_;
+  if (!(cell_ > 0)) cell_ = std::max({extent[0], extent[1], extent[2], 1.0});
+  // Keep the dense cell array within a few entries per face.
+  for (;;) {
+    double cells = 1;
+    for (int k = 0; k < 3; ++k) cells *= std::floor(extent[k] / cell_) + 1.0;
+    if (cells <= 8.0 * double(faceCount_) + 1024.0) break;
+    cell_ *= 1.5;
+  }
+  for (int k = 0; k < 3; ++k) dims_[k] = int(std::floor(extent[k] / cell_)) + 1;
+  const std::size_t cellCount = std::size_t(dims_[0]) * dims_[1] * dims_[2];
+  auto cellRange = [&](const vcg::Box3d& b, std::array<int, 6>& r) {
+    for (int k = 0; k < 3; ++k) {
+      r[k] = std::clamp(int(std::floor((b.min[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
+      r[k + 3] = std::clamp(int(std::floor((b.max[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
+    }
+  };
+  cellStart_.assign(cellCount + 1, 0);
+  std::array<int, 6> r{};
+  for (const Face& f : faces_) {
+    cellRange(f.box, r);
+    for (int z = r[2]; z <= r[5]; ++z)
+      for (int y = r[1]; y <= r[4]; ++y)
+        for (int x = r[0]; x <= r[3]; ++x) ++cellStart_[(std::size_t(z) * dims_[1] + y) * dims_[0] + x + 1];
+  }
+  for (std::size_t c = 0; c < cellCount; ++c) cellStart_[c + 1] += cellStart_[c];
+  cellFaces_.resize(cellStart_[cellCount]);
+  std::vector<std::uint32_t> fill(cellStart_.begin(), cellStart_.end() - 1);
+  for (std::size_t fi = 0; fi < faceCount_; ++fi) {
+    cellRange(faces_[fi].box, r);
+    for (int z = r[2]; z <= r[5]; ++z)
+      for (int y = r[1]; y <= r[4]; ++y)
+        for (int x = r[0]; x <= r[3]; ++x)
+          cellFaces_[fill[(std::size_t(z) * dims_[1] + y) * dims_[0] + x]++] = std::uint32_t(fi);
+  }
+}
+
+template <class MeshType>
+vcg::Point3d ReferenceSurface<MeshType>::Lift(const Point& q, int f) const {
+  const Face& face = faces_[f];
+  if (!(params_.phongAlpha > 0)) return q;
+  // Barycentric coordinates of q (on the face) from sub-triangle areas along the face normal.
+  const Point n = (face.p[1] - face.p[0]) ^ (face.p[2] - face.p[0]);
+  const double n2 = n.SquaredNorm();
+  if (!(n2 > 0)) return q;
+  std::array<double, 3> b{};
+  for (int k = 0; k < 3; ++k)
+    b[k] = std::max(0.0, ((face.p[(k + 1) % 3] - q) ^ (face.p[(k + 2) % 3] - q)) * n / n2);
+  const double sum = b[0] + b[1] + b[2];
+  if (!(sum > 0)) return q;
+  // Phong tessellation: the barycentric blend of q's projections onto the corners' tangent planes.
+  Point phong(0, 0, 0);
+  for (int k = 0; k < 3; ++k) {
+    const Point& vn = face.vn[k];
+    phong += (q - vn * ((q - face.p[k]) * vn)) * (b[k] / sum);
+  }
+  return q * (1.0 - params_.phongAlpha) + phong * params_.phongAlpha;
+}
+
+template <class MeshType>
+SurfaceProjection ReferenceSurface<MeshType>::ProjectGlobal(const Point& p) const {
+  SurfaceProjection best;
+  if (faceCount_ == 0) return best;
+  std::array<int, 3> center{};
+  for (int k = 0; k < 3; ++k)
+    center[k] = std::clamp(int(std::floor((p[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
+  const int maxShell = std::max({dims_[0], dims_[1], dims_[2]});
+  for (int s = 0; s <= maxShell; ++s) {
+    std::array<int, 3> lo{}, hi{};
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::max(center[k] - s, 0);
+      hi[k] = std::min(center[k] + s, dims_[k] - 1);
+    }
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x) {
+          // Only the cells of shell s (Chebyshev distance s from the center).
+          if (std::max({std::abs(x - center[0]), std::abs(y - center[1]), std::abs(z - center[2])}) != s) continue;
+          const std::size_t c = (std::size_t(z) * dims_[1] + y) * dims_[0] + x;
+          for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
+            const int f = int(cellFaces_[k]);
+            if (reference_detail::SquaredDistanceToBox(p, faces_[f].box) >= best.distance * best.distance) continue;
+            const SurfaceProjection candidate = ClosestOnFace(p, f);
+            if (candidate.distance < best.distance || (candidate.distance == best.distance && f < best.face))
+              best = candidate;
+          }
+        }
+    // Every face not yet seen lies outside the searched block of cells: stop when the best
+    // point is closer than the block's walls that still have cells beyond them.
+    double wall = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      if (lo[k] > 0) wall = std::min(wall, p[k] - (box_.min[k] + lo[k] * cell_));
+      if (hi[k] < dims_[k] - 1) wall = std::min(wall, box_.min[k] + (hi[k] + 1) * cell_ - p[k]);
+    }
+    if (best.ok() && best.distance <= wall) break;
+  }
+  return best;
+}
+
+template <class MeshType>
+SurfaceProjection ReferenceSurface<MeshType>::Project(const Point& p, int hintFace, Scratch& s) const {
+  if (hintFace < 0 || std::size_t(hintFace) >= faceCount_) {
+    SurfaceProjection global = ProjectGlobal(p);
+    if (global.ok() && params_.phongAlpha > 0) {
+      global.point = Lift(global.point, global.face);
+      global.distance = (global.point - p).Norm();
+    }
+    return global;
+  }
+  if (s.visited_.size() != faceCount_) {
+    s.visited_.assign(faceCount_, 0);
+    s.stamp_ = 0;
+  }
+  if (++s.stamp_ == 0) { // wrapped: clear the marks once every 2^32 calls
+    std::fill(s.visited_.begin(), s.visited_.end(), 0);
+    s.stamp_ = 1;
+  }
+  SurfaceProjection best = ClosestOnFace(p, hintFace);
+  const Point& hintNormal = faces_[hintFace].n;
+  const bool filterNormals = hintNormal.SquaredNorm() > 0;
+  // Faces are expanded while they touch the ball around p of radius d(p, hint) (capped by the
+  // search radius): the closest point of this sheet lies in it, and faces beyond it do not.
+  const double radius = std::min(best.distance, searchRadius_);
+  const double radius2 = radius * radius * (1.0 + 1e-12) + 1e-300;
+  s.stack_.clear();
+  s.stack_.push_back(hintFace);
+  s.visited_[hintFace] = s.stamp_;
+  int visitedCount = 1;
+  while (!s.stack_.empty() && visitedCount < params_.maxVisitedFaces) {
+    const int f = s.stack_.back();
+    s.stack_.pop_back();
+    for (std::uint32_t k = neighborStart_[f]; k < neighborStart_[f + 1]; ++k) {
+      const int g = int(neighbors_[k]);
+      if (s.visited_[g] == s.stamp_) continue;
+      s.visited_[g] = s.stamp_;
+      ++visitedCount;
+      const Face& face = faces_[g];
+      if (filterNormals && face.n.SquaredNorm() > 0 && face.n * hintNormal < cosMaxNormalAngle_) continue;
+      if (reference_detail::SquaredDistanceToBox(p, face.box) > radius2) continue;
+      const SurfaceProjection candidate = ClosestOnFace(p, g);
+      if (candidate.distance * candidate.distance > radius2) continue;
+      if (candidate.distance < best.distance) best = candidate;
+      s.stack_.push_back(g);
+    }
+  }
+  if (params_.phongAlpha > 0) {
+    best.point = Lift(best.point, best.face);
+    best.distance = (best.point - p).Norm();
+  }
+  return best;
+}
+
+} // namespace molremesh

@@ -1,0 +1,238 @@
+// The molremesh pipeline: the stages of Khan et al. 2020 run in order on one mesh, sharing the
+// cleaned input as reference surface, one target edge length and one seed.
+//
+// RemeshPipeline<MeshType>::Do(m, params) runs params.stages (any subset, always in pipeline
+// order) and measures the mesh before and after each stage (MeshQuality). It is transactional:
+// if a stage fails, the mesh is restored to the input and the failing stage says why.
+#pragma once
+
+#include <vcg/complex/append.h>
+#include <vcg/complex/complex.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "clean_raw_mesh.h"
+#include "cvt_initialization.h"
+#include "input_check.h"
+#include "mesh_quality.h"
+#include "random_segmentation.h"
+#include "reference_surface.h"
+
+namespace molremesh {
+
+/// Pipeline stages, in the order they run.
+enum class PipelineStage { Clean, Cvt, Segment };
+
+struct PipelineStageInfo {
+  PipelineStage stage;
+  const char* name;        ///< as written in --stages lists
+  const char* description; ///< one line
+};
+
+inline const std::vector<PipelineStageInfo>& PipelineStages() {
+  static const std::vector<PipelineStageInfo> stages = {
+      {PipelineStage::Clean, "clean", "clean the raw mesh (duplicates, degenerate faces, non-manifold, holes)"},
+      {PipelineStage::Cvt, "cvt", "centroidal Voronoi tessellation initialization"},
+      {PipelineStage::Segment, "segment", "random segmentation into patches"},
+  };
+  return stages;
+}
+
+inline const char* StageName(PipelineStage stage) {
+  for (const auto& info : PipelineStages())
+    if (info.stage == stage) return info.name;
+  return "?";
+}
+
+/// Parses "clean,cvt,..." into stages in pipeline order. Unknown or repeated names are errors.
+inline bool ParseStageList(const std::string& list, std::vector<PipelineStage>& stages, std::string& error) {
+  stages.clear();
+  std::istringstream in(list);
+  std::string name;
+  while (std::getline(in, name, ',')) {
+    name.erase(0, name.find_first_not_of(" \t"));
+    name.erase(name.find_last_not_of(" \t") + 1);
+    if (name.empty()) continue;
+    auto it = std::find_if(PipelineStages().begin(), PipelineStages().end(),
+                           [&](const PipelineStageInfo& info) { return name == info.name; });
+    if (it == PipelineStages().end()) {
+      error = "unknown stage '" + name + "' (known stages:";
+      for (const auto& info : PipelineStages()) error += std::string(" ") + info.name;
+      error += ")";
+      return false;
+    }
+    if (std::find(stages.begin(), stages.end(), it->stage) != stages.end()) {
+      error = "stage '" + name + "' is listed twice";
+      return false;
+    }
+    stages.push_back(it->stage);
+  }
+  if (stages.empty()) {
+    error = "no stage given";
+    return false;
+  }
+  std::sort(stages.begin(), stages.end());
+  return true;
+}
+
+/// What one stage did.
+struct PipelineStageRecord {
+  std::string name;
+  bool ok = true;
+  std::string summary; ///< the stage's own one-line-per-figure summary, or why it failed
+  double seconds = 0;
+  QualityReport after; ///< the mesh after the stage (when Params::measureEachStage)
+};
+
+struct PipelineResult {
+  bool ok = true;
+  std::string message; ///< why it failed (the mesh is then the input again)
+  double targetEdgeLength = 0;
+  QualityReport input;                    ///< the mesh as given
+  std::vector<PipelineStageRecord> stages; ///< in order
+  std::vector<int> facePatch;             ///< the segmentation, when the segment stage ran (and no later
+                                          ///< stage changed the faces: rar clears it)
+  int patchCount = 0;
+  double seconds = 0;
+};
+
+template <class MeshType>
+class RemeshPipeline {
+public:
+  struct Params {
+    std::vector<PipelineStage> stages = AllStages(); ///< which stages run (in pipeline order)
+    double targetEdgeLength = 0;   ///< L for every stage; 0 = mean edge length of the (cleaned) input
+    std::uint64_t seed = 1;        ///< seed of every random choice
+    int threads = 0;               ///< worker threads; 0 = all cores (the output does not depend on it)
+    bool measureEachStage = true;  ///< quality report after each stage (self-intersections included)
+    typename CleanRawMesh<MeshType>::Params clean;
+    typename CvtInitialization<MeshType>::Params cvt;
+    typename RandomSegmentation<MeshType>::Params segment;
+  };
+
+  static std::vector<PipelineStage> AllStages() {
+    std::vector<PipelineStage> all;
+    for (const auto& info : PipelineStages()) all.push_back(info.stage);
+    return all;
+  }
+
+  /// Runs the stages on m. Requires FF and VF adjacency (enabled; they are recomputed).
+  /// log, when given, receives one line per event (stage start and end) for progress output.
+  static PipelineResult Do(MeshType& m, const Params& params, const std::function<void(const std::string&)>& log = {},
+                           vcg::CallBackPos* cb = nullptr) {
+    using Clock = std::chrono::steady_clock;
+    const auto start = Clock::now();
+    PipelineResult result;
+    auto say = [&](const std::string& line) {
+      if (log) log(line);
+    };
+    const InputCheck check = CheckTriangleMeshInput(m);
+    if (!check.ok) {
+      result.ok = false;
+      result.message = check.message;
+      return result;
+    }
+    typename MeshQuality<MeshType>::Params qualityParams;
+    result.input = MeshQuality<MeshType>::Compute(m, qualityParams);
+
+    MeshType backup;
+    vcg::tri::Append<MeshType, MeshType>::MeshCopy(backup, m);
+    auto fail = [&](PipelineStageRecord& record, const std::string& why) {
+      record.ok = false;
+      record.summary = why;
+      result.stages.push_back(record);
+      result.ok = false;
+      result.message = std::string("stage '") + record.name + "' failed: " + why + " (the mesh is unchanged)";
+      vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, backup);
+      vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+      vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+      say(result.message);
+      return result;
+    };
+
+    std::unique_ptr<ReferenceSurface<MeshType>> reference;
+    auto ensureReference = [&]() -> std::string {
+      if (reference) return {};
+      reference = std::make_unique<ReferenceSurface<MeshType>>();
+      std::string error;
+      if (!reference->Build(m, typename ReferenceSurface<MeshType>::Params(), &error)) return error;
+      return {};
+    };
+    auto ensureTargetLength = [&]() {
+      if (result.targetEdgeLength > 0) return;
+      result.targetEdgeLength = params.targetEdgeLength > 0
+                                    ? params.targetEdgeLength
+                                    : MeshQuality<MeshType>::Compute(m, NoIntersections()).meanEdgeLength;
+    };
+
+    const std::size_t stageCount = params.stages.size();
+    for (std::size_t s = 0; s < stageCount; ++s) {
+      const PipelineStage stage = params.stages[s];
+      PipelineStageRecord record;
+      record.name = StageName(stage);
+      say(std::string("stage ") + record.name + " ...");
+      if (cb) cb(int(100 * s / std::max<std::size_t>(1, stageCount)), record.name.c_str());
+      const auto stageStart = Clock::now();
+      vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+      vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+
+      switch (stage) {
+      case PipelineStage::Clean: {
+        const auto r = CleanRawMesh<MeshType>::Do(m, params.clean);
+        if (!r.ok) return fail(record, r.message);
+        record.summary = r.Summary();
+        break;
+      }
+      case PipelineStage::Cvt: {
+        ensureTargetLength();
+        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
+        auto cvtParams = params.cvt;
+        if (cvtParams.targetEdgeLength <= 0 && cvtParams.targetVertexCount == 0)
+          cvtParams.targetEdgeLength = result.targetEdgeLength;
+        cvtParams.threads = params.threads;
+        const auto r = CvtInitialization<MeshType>::Do(m, *reference, cvtParams);
+        if (!r.ok) return fail(record, r.message);
+        record.summary = r.message;
+        break;
+      }
+      case PipelineStage::Segment: {
+        auto segmentParams = params.segment;
+        segmentParams.seed = params.seed;
+        SegmentationResult r = RandomSegmentation<MeshType>::Do(m, segmentParams);
+        if (!r.ok) return fail(record, r.message);
+        record.summary = "patches: " + std::to_string(r.patchCount) + "\nborder edges: " +
+                         std::to_string(r.borderEdges) + "\nborder vertices: " + std::to_string(r.borderVertices) + "\n";
+        result.patchCount = r.patchCount;
+        result.facePatch = std::move(r.facePatch);
+        break;
+      }
+      }
+      vcg::tri::Allocator<MeshType>::CompactEveryVector(m);
+      record.seconds = std::chrono::duration<double>(Clock::now() - stageStart).count();
+      if (params.measureEachStage) record.after = MeshQuality<MeshType>::Compute(m, qualityParams);
+      say(std::string("stage ") + record.name + " done in " + std::to_string(record.seconds) + " s");
+      result.stages.push_back(record);
+    }
+    vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+    vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (cb) cb(100, "done");
+    return result;
+  }
+
+private:
+  static typename MeshQuality<MeshType>::Params NoIntersections() {
+    typename MeshQuality<MeshType>::Params p;
+    p.computeSelfIntersections = false;
+    return p;
+  }
+};
+
+} // namespace molremesh

@@ -1,0 +1,247 @@
+// All intersecting pairs among many triangles at once, cache-friendly and in parallel.
+//
+// When most faces of a mesh have just moved (a Jacobi smoothing step), asking the dynamic grid
+// "what is near this face?" face by face costs a cache miss per candidate. TrianglePairScan
+// instead sorts the triangles along a Morton curve of the grid cell holding their bounding box's
+// lowest corner (cells as large as the largest box, so touching boxes sit in the same or in
+// adjacent cells), copies them into contiguous arrays in that order, and tests each cell against
+// itself and its 13 "forward" neighbours. Only pairs with at least one triangle flagged `moved`
+// are tested; a pair is reported when local_ops_detail::FacesIntersect says so (MeshQuality's
+// predicates: no contact for faces sharing no vertex, no contact beyond the shared corner for
+// faces sharing one). Deterministic: the pairs come out sorted.
+#pragma once
+
+#include <vcg/space/box3.h>
+#include <vcg/space/point3.h>
+
+#include <vcg_ext/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace molremesh {
+
+class TrianglePairScan {
+public:
+  using Point = vcg::Point3d;
+
+  /// Triangle i as the caller describes it to Build.
+  struct Triangle {
+    std::array<Point, 3> p;          ///< corners
+    std::array<std::uint32_t, 3> v;  ///< vertex ids (shared corners are recognised by id)
+    Point n;                         ///< unit normal (filled by Build)
+    bool live = false;               ///< false: ignored
+    bool moved = false;              ///< pairs of two unmoved triangles are not tested
+  };
+
+  /// Collects n triangles through fill(i, Triangle&) (called in parallel, once per i) and
+  /// sorts them into cells.
+  template <class Fill>
+  void Build(std::size_t n, Fill&& fill, int threads);
+
+  /// Pairs (i, j), i < j (indices as given to Build), that intersect and involve a moved triangle.
+  /// intersect(a, b) decides a candidate pair (boxes touching) from two Triangles.
+  template <class Intersect>
+  void FindPairs(int threads, Intersect&& intersect, std::vector<std::pair<std::uint32_t, std::uint32_t>>& out);
+
+private:
+  struct Cell {
+    std::uint64_t key;
+    std::uint32_t begin, end; // run in the sorted arrays
+  };
+  static std::uint64_t Spread(std::uint64_t x) { // 21 bits -> every third bit
+    x &= 0x1fffff;
+    x = (x | x << 32) & 0x1f00000000ffffULL;
+    x = (x | x << 16) & 0x1f0000ff0000ffULL;
+    x = (x | x << 8) & 0x100f00f00f00f00fULL;
+    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
+    x = (x | x << 2) & 0x1249249249249249ULL;
+    return x;
+  }
+  static std::uint64_t Key(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
+    return Spread(x) | (Spread(y) << 1) | (Spread(z) << 2);
+  }
+  static std::uint64_t Hash(std::uint64_t k) {
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdULL;
+    k ^= k >> 33;
+    return k;
+  }
+  int FindCell(std::uint64_t key) const {
+    const std::size_t mask = tableKeys_.size() - 1;
+    for (std::size_t i = Hash(key) & mask;; i = (i + 1) & mask) {
+      if (tableKeys_[i] == key) return int(tableCells_[i]);
+      if (tableKeys_[i] == kEmpty) return -1;
+    }
+  }
+
+  static constexpr std::uint64_t kEmpty = std::numeric_limits<std::uint64_t>::max();
+
+  std::vector<Triangle> input_;
+  std::vector<vcg::Box3d> inputBox_;
+  std::vector<std::uint64_t> keys_;
+  std::vector<std::uint32_t> order_, tmp_;
+  std::vector<Triangle> sorted_;
+  std::vector<vcg::Box3d> sortedBox_;
+  std::vector<std::array<std::uint32_t, 3>> cellOf_; // cell coordinates of each sorted triangle
+  std::vector<Cell> cells_;
+  std::vector<std::uint64_t> tableKeys_;
+  std::vector<std::uint32_t> tableCells_;
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> threadPairs_;
+};
+
+// ------------------------------------------------------------------------------------------------
+
+template <class Fill>
+void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
+  input_.resize(n);
+  inputBox_.resize(n);
+  ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      Triangle& t = input_[i];
+      t.live = false;
+      t.moved = false;
+      fill(i, t);
+      vcg::Box3d b;
+      if (t.live) {
+        for (int k = 0; k < 3; ++k) b.Add(t.p[k]);
+        const Point nn = (t.p[1] - t.p[0]) ^ (t.p[2] - t.p[0]);
+        const double len = nn.Norm();
+        t.n = len > 0 ? nn / len : Point(0, 0, 0);
+      }
+      inputBox_[i] = b;
+    }
+  });
+  // Cell size: the largest box extent, so that touching boxes have min-corner cells at most
+  // one apart on every axis.
+  vcg::Box3d all;
+  double extent = 0;
+  std::size_t live = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!input_[i].live) continue;
+    ++live;
+    all.Add(inputBox_[i]);
+    const Point d = inputBox_[i].Dim();
+    extent = std::max({extent, d[0], d[1], d[2]});
+  }
+  cells_.clear();
+  sorted_.clear();
+  if (live == 0) return;
+  const Point dim = all.Dim();
+  double cell = extent * (1.0 + 1e-9) + 1e-300;
+  while (std::max({dim[0], dim[1], dim[2]}) / cell > double(0x1fffff - 2)) cell *= 2.0;
+  const double inv = 1.0 / cell;
+
+  keys_.resize(n);
+  order_.clear();
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!input_[i].live) continue;
+    const vcg::Box3d& b = inputBox_[i];
+    keys_[i] = Key(std::uint32_t((b.min[0] - all.min[0]) * inv), std::uint32_t((b.min[1] - all.min[1]) * inv),
+                   std::uint32_t((b.min[2] - all.min[2]) * inv));
+    order_.push_back(std::uint32_t(i));
+  }
+  // LSD radix sort of the live indices by key (stable, so ties stay in index order).
+  std::uint64_t maxKey = 0;
+  for (const std::uint32_t i : order_) maxKey = std::max(maxKey, keys_[i]);
+  tmp_.resize(order_.size());
+  std::vector<std::uint32_t> count(1u << 16);
+  for (int shift = 0; shift < 64 && (maxKey >> shift) != 0; shift += 16) {
+    std::fill(count.begin(), count.end(), 0);
+    for (const std::uint32_t i : order_) ++count[(keys_[i] >> shift) & 0xffff];
+    std::uint32_t sum = 0;
+    for (auto& c : count) {
+      const std::uint32_t k = c;
+      c = sum;
+      sum += k;
+    }
+    for (const std::uint32_t i : order_) tmp_[count[(keys_[i] >> shift) & 0xffff]++] = i;
+    order_.swap(tmp_);
+  }
+  // Contiguous copies in curve order, and the cells as runs.
+  sorted_.resize(order_.size());
+  sortedBox_.resize(order_.size());
+  cellOf_.resize(order_.size());
+  ParallelFor(order_.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::uint32_t i = order_[k];
+      sorted_[k] = input_[i];
+      sortedBox_[k] = inputBox_[i];
+      for (int a = 0; a < 3; ++a) cellOf_[k][a] = std::uint32_t((inputBox_[i].min[a] - all.min[a]) * inv);
+    }
+  });
+  for (std::size_t k = 0; k < order_.size();) {
+    std::size_t e = k;
+    while (e < order_.size() && keys_[order_[e]] == keys_[order_[k]]) ++e;
+    cells_.push_back({keys_[order_[k]], std::uint32_t(k), std::uint32_t(e)});
+    k = e;
+  }
+  std::size_t tableSize = 16;
+  while (tableSize < 2 * cells_.size()) tableSize *= 2;
+  tableKeys_.assign(tableSize, kEmpty);
+  tableCells_.assign(tableSize, 0);
+  for (std::size_t c = 0; c < cells_.size(); ++c) {
+    std::size_t i = Hash(cells_[c].key) & (tableSize - 1);
+    while (tableKeys_[i] != kEmpty) i = (i + 1) & (tableSize - 1);
+    tableKeys_[i] = cells_[c].key;
+    tableCells_[i] = std::uint32_t(c);
+  }
+}
+
+template <class Intersect>
+void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
+                                 std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) {
+  out.clear();
+  const int nThreads = ResolveThreadCount(threads);
+  threadPairs_.resize(nThreads);
+  for (auto& v : threadPairs_) v.clear();
+  // The 13 neighbour offsets with (dz, dy, dx) lexicographically positive: each pair of
+  // neighbouring cells is visited once, from its lower cell.
+  std::array<std::array<int, 3>, 13> offsets{};
+  int count = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (dz > 0 || (dz == 0 && (dy > 0 || (dy == 0 && dx > 0)))) offsets[count++] = {dx, dy, dz};
+  auto touch = [](const vcg::Box3d& a, const vcg::Box3d& b) {
+    return a.min[0] <= b.max[0] && b.min[0] <= a.max[0] && a.min[1] <= b.max[1] && b.min[1] <= a.max[1] &&
+           a.min[2] <= b.max[2] && b.min[2] <= a.max[2];
+  };
+  ParallelFor(cells_.size(), nThreads, [&](std::size_t begin, std::size_t end, int t) {
+    auto& pairs = threadPairs_[t];
+    auto test = [&](std::uint32_t a, std::uint32_t b) {
+      if (!sorted_[a].moved && !sorted_[b].moved) return;
+      if (!touch(sortedBox_[a], sortedBox_[b])) return;
+      if (intersect(sorted_[a], sorted_[b])) {
+        const std::uint32_t i = order_[a], j = order_[b];
+        pairs.emplace_back(std::min(i, j), std::max(i, j));
+      }
+    };
+    for (std::size_t c = begin; c < end; ++c) {
+      const Cell& cell = cells_[c];
+      for (std::uint32_t a = cell.begin; a < cell.end; ++a)
+        for (std::uint32_t b = a + 1; b < cell.end; ++b) test(a, b);
+      const std::array<std::uint32_t, 3>& xyz = cellOf_[cell.begin];
+      for (const auto& o : offsets) {
+        const long x = long(xyz[0]) + o[0], y = long(xyz[1]) + o[1], z = long(xyz[2]) + o[2];
+        if (x < 0 || y < 0 || z < 0) continue;
+        const int other = FindCell(Key(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
+        if (other < 0) continue;
+        const Cell& oc = cells_[other];
+        for (std::uint32_t a = cell.begin; a < cell.end; ++a)
+          for (std::uint32_t b = oc.begin; b < oc.end; ++b) test(a, b);
+      }
+    }
+  }, 64);
+  for (const auto& v : threadPairs_) out.insert(out.end(), v.begin(), v.end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+}
+
+} // namespace molremesh
