@@ -117,10 +117,38 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, MeshlabServerOnMesh, ::testing::ValuesIn(
                            return name;
                          });
 
+TEST(MeshlabServer, CleanThenCvtScriptsMatchTheCliPipeline) {
+  // The defective marching-cubes mesh: cracks, non-manifold vertices, tiny components.
+  const std::string input = SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply");
+  const auto dir = TempDir("mls_cvt");
+  const std::string viaServer = (dir / "server.ply").string();
+  const std::string viaCli = (dir / "cli.ply").string();
+  const CommandResult r = Server("-i " + Quote(input) + " -o " + Quote(viaServer) + " -s " +
+                                 Quote(kScripts + "/clean_raw_mesh.mlx") + " -s " +
+                                 Quote(kScripts + "/cvt_initialization.mlx"));
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const CommandResult cli =
+      molremesh::test::Run(Quote(kCli) + " remesh --quiet --stages clean,cvt " + Quote(input) + " " + Quote(viaCli));
+  ASSERT_EQ(cli.exitCode, 0) << cli.err;
+
+  const nlohmann::json server = CliReport(viaServer);
+  const nlohmann::json direct = CliReport(viaCli);
+  EXPECT_EQ(server["two_manifold"], true);
+  EXPECT_EQ(server["boundary_edges"], 0);
+  EXPECT_EQ(server["degenerate_faces"], 0);
+  EXPECT_EQ(server["self_intersecting_pairs"], 0);
+  EXPECT_EQ(server["genus"], direct["genus"]);
+  EXPECT_EQ(server["faces"], direct["faces"]) << "the plugin and the CLI run the same pipeline";
+  EXPECT_GE(server["angle_min_deg"].get<double>(), 30.0);
+  EXPECT_GE(server["v567_percent"].get<double>(), 99.0);
+  std::filesystem::remove_all(dir);
+}
+
 TEST(MeshlabServer, BadInputFailsWithOurMessageAndSavesNothing) {
   for (const auto& [fixture, message] : std::vector<std::pair<std::string, std::string>>{
            {"point_cloud.ply", "point cloud"}, {"nan_vertex.ply", "NaN"}}) {
-    for (const char* script : {"quality_report.mlx", "color_bad_elements.mlx"}) {
+    for (const char* script : {"quality_report.mlx", "color_bad_elements.mlx", "clean_raw_mesh.mlx",
+                               "cvt_initialization.mlx", "random_segmentation.mlx"}) {
       const auto dir = TempDir("mls_bad");
       const std::string output = (dir / "out.ply").string();
       const std::string logFile = (dir / "log.txt").string();
