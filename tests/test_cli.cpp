@@ -110,3 +110,37 @@ TEST(Cli, ColorRefusesBadInputAndWritesNothing) {
   EXPECT_FALSE(std::filesystem::exists(out));
   std::filesystem::remove_all(dir);
 }
+
+TEST(Cli, ReadsAndWritesPlyOffObjAndStl) {
+  // The segment stage leaves the geometry alone: a round trip through each format keeps the mesh.
+  const auto dir = TempDir("cli_formats");
+  const std::string in = SharedMesh("galactose_grasp.ply");
+  const CommandResult original = Cli("report --json --no-self-intersections " + Quote(in));
+  ASSERT_EQ(original.exitCode, 0) << original.err;
+  const auto expected = nlohmann::json::parse(original.out);
+  for (const char* extension : {"ply", "off", "obj", "stl"}) {
+    const std::string out = (dir / (std::string("copy.") + extension)).string();
+    const CommandResult write = Cli("remesh --quiet --stages segment " + Quote(in) + " " + Quote(out));
+    ASSERT_EQ(write.exitCode, 0) << extension << ": " << write.err;
+    const CommandResult read = Cli("report --json --no-self-intersections " + Quote(out));
+    ASSERT_EQ(read.exitCode, 0) << extension << ": " << read.err;
+    const auto j = nlohmann::json::parse(read.out);
+    EXPECT_EQ(j["faces"], expected["faces"]) << extension;
+    EXPECT_EQ(j["genus"], expected["genus"]) << extension;
+    EXPECT_EQ(j["boundary_edges"], 0) << extension << ": STL's copies must be welded";
+    EXPECT_NEAR(j["area"].get<double>(), expected["area"].get<double>(), 1e-3 * expected["area"].get<double>());
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Cli, RemeshRefusesBadInputAndUnknownStagesWritingNothing) {
+  const auto dir = TempDir("cli_remesh_bad");
+  const std::string out = (dir / "out.ply").string();
+  ExpectInputError(Cli("remesh " + Quote(Fixture("nan_vertex.ply")) + " " + Quote(out)), "NaN");
+  ExpectInputError(Cli("remesh --stages clean,bogus " + Quote(SharedMesh("bpti_1bpi_msms.ply")) + " " + Quote(out)),
+                   "unknown stage 'bogus'");
+  ExpectInputError(Cli("remesh --stages cvt " + Quote(Fixture("nonmanifold_fan.ply")) + " " + Quote(out)),
+                   "stage 'cvt' failed");
+  EXPECT_FALSE(std::filesystem::exists(out));
+  std::filesystem::remove_all(dir);
+}

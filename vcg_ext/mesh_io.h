@@ -11,12 +11,15 @@
 #include <wrap/io_trimesh/export_off.h>
 #include <wrap/io_trimesh/export_ply.h>
 #include <wrap/io_trimesh/export_stl.h>
-#include <wrap/io_trimesh/import_obj.h>
 #include <wrap/io_trimesh/import_off.h>
 #include <wrap/io_trimesh/import_ply.h>
 #include <wrap/io_trimesh/import_stl.h>
 
 #include <algorithm>
+#include <array>
+#include <cstdlib>
+#include <sstream>
+#include <vector>
 #include <cctype>
 #include <fstream>
 #include <string>
@@ -37,6 +40,64 @@ inline MeshFormat FormatFromPath(const std::string& path) {
   if (extension == "obj") return MeshFormat::Obj;
   if (extension == "stl") return MeshFormat::Stl;
   return MeshFormat::Unknown;
+}
+
+/// Reads the vertices and faces of a Wavefront OBJ file (polygons are fan-triangulated; texture
+/// and normal indices, negative relative indices and everything else are handled or ignored).
+/// Our own reader because vcglib 2020.09's ImporterOBJ miscounts faces on some files (it loses
+/// triangles, asserting in debug builds).
+template <class MeshType>
+bool ReadObjTriangles(MeshType& m, const std::string& path, std::string& error) {
+  using Scalar = typename MeshType::ScalarType;
+  std::ifstream in(path);
+  std::vector<vcg::Point3d> points;
+  std::vector<std::array<int, 3>> triangles;
+  std::string line;
+  std::size_t lineNumber = 0;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    std::istringstream tokens(line);
+    std::string kind;
+    if (!(tokens >> kind)) continue;
+    if (kind == "v") {
+      double x, y, z;
+      if (!(tokens >> x >> y >> z)) {
+        error = "bad vertex at line " + std::to_string(lineNumber);
+        return false;
+      }
+      points.emplace_back(x, y, z);
+    } else if (kind == "f") {
+      std::vector<int> corners;
+      std::string corner;
+      while (tokens >> corner) {
+        const int index = std::atoi(corner.substr(0, corner.find('/')).c_str());
+        const int resolved = index > 0 ? index - 1 : int(points.size()) + index;
+        if (index == 0 || resolved < 0) {
+          error = "bad face index at line " + std::to_string(lineNumber);
+          return false;
+        }
+        corners.push_back(resolved);
+      }
+      for (std::size_t k = 2; k < corners.size(); ++k) triangles.push_back({corners[0], corners[k - 1], corners[k]});
+    }
+  }
+  if (points.empty()) {
+    error = "no vertices found (not an OBJ file?)";
+    return false;
+  }
+  for (const auto& t : triangles)
+    for (int i : t)
+      if (i >= int(points.size())) {
+        error = "a face refers to vertex " + std::to_string(i + 1) + " of " + std::to_string(points.size());
+        return false;
+      }
+  vcg::tri::Allocator<MeshType>::AddVertices(m, points.size());
+  for (std::size_t i = 0; i < points.size(); ++i)
+    m.vert[i].P() = vcg::Point3<Scalar>(Scalar(points[i][0]), Scalar(points[i][1]), Scalar(points[i][2]));
+  vcg::tri::Allocator<MeshType>::AddFaces(m, triangles.size());
+  for (std::size_t f = 0; f < triangles.size(); ++f)
+    for (int k = 0; k < 3; ++k) m.face[f].V(k) = &m.vert[std::size_t(triangles[f][k])];
+  return true;
 }
 
 /// Loads path into m (cleared first). Returns true on success; otherwise error holds one line.
@@ -71,11 +132,15 @@ bool LoadMesh(MeshType& m, const std::string& path, std::string& error) {
     critical = code != 0;
     message = vcg::tri::io::ImporterOFF<MeshType>::ErrorMsg(code);
     break;
-  case MeshFormat::Obj:
-    code = vcg::tri::io::ImporterOBJ<MeshType>::Open(m, path.c_str(), loadMask);
-    critical = code != 0 && vcg::tri::io::ImporterOBJ<MeshType>::ErrorCritical(code);
-    message = vcg::tri::io::ImporterOBJ<MeshType>::ErrorMsg(code);
+  case MeshFormat::Obj: {
+    std::string objError;
+    if (!ReadObjTriangles(m, path, objError)) {
+      m.Clear();
+      error = "cannot read '" + path + "': " + objError;
+      return false;
+    }
     break;
+  }
   case MeshFormat::Stl:
     code = vcg::tri::io::ImporterSTL<MeshType>::Open(m, path.c_str(), loadMask);
     critical = code != 0;
