@@ -27,7 +27,7 @@ void LogLines(Logger&& log, const std::string& text) {
 
 FilterMolRemeshPlugin::FilterMolRemeshPlugin() {
   typeList << FP_QUALITY_REPORT << FP_COLOR_BAD_ELEMENTS << FP_CLEAN_RAW_MESH << FP_CVT_INITIALIZATION
-           << FP_RANDOM_SEGMENTATION;
+           << FP_RANDOM_SEGMENTATION << FP_PATCHWISE_RAR;
   for (FilterIDType id : types()) actionList << new QAction(filterName(id), this);
 }
 
@@ -47,6 +47,8 @@ QString FilterMolRemeshPlugin::filterName(FilterIDType filter) const {
     return "Molecular Remesh: CVT Initialization";
   case FP_RANDOM_SEGMENTATION:
     return "Molecular Remesh: Random Segmentation";
+  case FP_PATCHWISE_RAR:
+    return "Molecular Remesh: Patch-wise Adaptive Remeshing";
   }
   return "Molecular Remesh: unknown filter";
 }
@@ -88,6 +90,13 @@ QString FilterMolRemeshPlugin::filterInfo(FilterIDType filter) const {
            "borders are locked during patch-wise remeshing). Colors the faces by patch and stores the patch "
            "id "
            "in the per-face attribute 'molremesh_patch'. Geometry is not changed.";
+  case FP_PATCHWISE_RAR:
+    return "Stage 3 of Khan et al. 2020: random segmentation (same seed and patch count as the Random "
+           "Segmentation filter give the same patches), then each patch remeshed on its own, in parallel, with "
+           "real-time adaptive remeshing (Dunyach et al. 2013: curvature-adapted target length, split > 4/3 L, "
+           "collapse < 4/5 L, valence flips, tangential relaxation, projection onto the input) with its border "
+           "locked; then the strip around the borders is remeshed. Every edit is guarded: no fold, no "
+           "self-intersection, no new small angle. Needs a clean 2-manifold input.";
   }
   return QString();
 }
@@ -119,6 +128,7 @@ int FilterMolRemeshPlugin::postCondition(QAction* action) const {
     return MeshModel::MM_FACECOLOR;
   case FP_CLEAN_RAW_MESH:
   case FP_CVT_INITIALIZATION:
+  case FP_PATCHWISE_RAR:
     return MeshModel::MM_ALL;
   }
   return MeshModel::MM_NONE;
@@ -169,6 +179,25 @@ void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel&, RichPa
                                 "depend on it."));
     break;
   }
+  case FP_PATCHWISE_RAR: {
+    const molremesh::PatchwiseRemeshing<molremesh::MeshD>::Params defaults;
+    parameters.addParam(RichInt("patchCount", 0, "Patches", "Number of patches; 0 = automatic."));
+    parameters.addParam(RichInt("seed", 1, "Seed", "Random seed of the segmentation."));
+    parameters.addParam(RichInt("rarIterations", defaults.rar.iterations, "RAR iterations",
+                                "Split/collapse/flip/relax iterations per patch."));
+    parameters.addParam(RichFloat("targetLength", 0.f, "Target edge length",
+                                  "Base target edge length L0 in mesh units; 0 = the mean edge length of the input."));
+    parameters.addParam(RichFloat("approximationTolerance", float(defaults.rar.approximationTolerance),
+                                  "Approximation tolerance (x L0)",
+                                  "Allowed sagitta of an edge over the curved surface; smaller = finer where curved."));
+    parameters.addParam(RichFloat("minLengthFactor", float(defaults.rar.minLengthFactor), "Min length (x L0)",
+                                  "Smallest adaptive target length, relative to L0."));
+    parameters.addParam(RichFloat("maxLengthFactor", float(defaults.rar.maxLengthFactor), "Max length (x L0)",
+                                  "Largest adaptive target length, relative to L0."));
+    parameters.addParam(RichInt("threads", 0, "Threads", "Worker threads; 0 = all cores. The result does not "
+                                                         "depend on it."));
+    break;
+  }
   case FP_RANDOM_SEGMENTATION: {
     const molremesh::RandomSegmentation<CMeshO>::Params defaults;
     parameters.addParam(RichInt("patchCount", defaults.patchCount, "Patches",
@@ -206,6 +235,9 @@ bool FilterMolRemeshPlugin::applyFilter(QAction* action, MeshDocument& md,
     return runStages(*mm, {int(molremesh::PipelineStage::Clean)}, parameters, cb);
   case FP_CVT_INITIALIZATION:
     return runStages(*mm, {int(molremesh::PipelineStage::Cvt)}, parameters, cb);
+  case FP_PATCHWISE_RAR:
+    return runStages(*mm, {int(molremesh::PipelineStage::Segment), int(molremesh::PipelineStage::Rar)}, parameters,
+                     cb);
   }
   return fail("unknown filter");
 }
@@ -277,6 +309,12 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
     params.cvt.targetVertexCount = std::size_t(std::max(0, parameters.getInt("targetVertexCount")));
   if (parameters.hasParameter("threads")) params.threads = std::max(0, parameters.getInt("threads"));
   if (parameters.hasParameter("seed")) params.seed = std::uint64_t(parameters.getInt("seed"));
+  if (parameters.hasParameter("patchCount")) params.segment.patchCount = std::max(0, parameters.getInt("patchCount"));
+  if (parameters.hasParameter("rarIterations")) params.rar.rar.iterations = parameters.getInt("rarIterations");
+  if (parameters.hasParameter("approximationTolerance"))
+    params.rar.rar.approximationTolerance = parameters.getFloat("approximationTolerance");
+  if (parameters.hasParameter("minLengthFactor")) params.rar.rar.minLengthFactor = parameters.getFloat("minLengthFactor");
+  if (parameters.hasParameter("maxLengthFactor")) params.rar.rar.maxLengthFactor = parameters.getFloat("maxLengthFactor");
   if (params.cvt.iterations < 0) return fail("Lloyd iterations must be 0 or more");
   if (params.targetEdgeLength < 0) return fail("Target edge length must be 0 (automatic) or more");
 

@@ -20,6 +20,7 @@ public:
     FP_CLEAN_RAW_MESH,
     FP_CVT_INITIALIZATION,
     FP_RANDOM_SEGMENTATION,
+    FP_PATCHWISE_RAR,
   };
 
   FilterMolRemeshPlugin();

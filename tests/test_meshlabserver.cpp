@@ -148,7 +148,7 @@ TEST(MeshlabServer, BadInputFailsWithOurMessageAndSavesNothing) {
   for (const auto& [fixture, message] : std::vector<std::pair<std::string, std::string>>{
            {"point_cloud.ply", "point cloud"}, {"nan_vertex.ply", "NaN"}}) {
     for (const char* script : {"quality_report.mlx", "color_bad_elements.mlx", "clean_raw_mesh.mlx",
-                               "cvt_initialization.mlx", "random_segmentation.mlx"}) {
+                               "cvt_initialization.mlx", "random_segmentation.mlx", "patchwise_rar.mlx"}) {
       const auto dir = TempDir("mls_bad");
       const std::string output = (dir / "out.ply").string();
       const std::string logFile = (dir / "log.txt").string();

@@ -111,7 +111,8 @@ const QString kColor = "Molecular Remesh: Color Bad Elements";
 const QString kClean = "Molecular Remesh: Clean Raw Mesh";
 const QString kCvt = "Molecular Remesh: CVT Initialization";
 const QString kSegment = "Molecular Remesh: Random Segmentation";
-const QList<QString> kAllFilters = {kReport, kColor, kClean, kCvt, kSegment};
+const QString kRar = "Molecular Remesh: Patch-wise Adaptive Remeshing";
+const QList<QString> kAllFilters = {kReport, kColor, kClean, kCvt, kSegment, kRar};
 
 } // namespace
 

@@ -22,13 +22,14 @@
 #include "cvt_initialization.h"
 #include "input_check.h"
 #include "mesh_quality.h"
+#include "patchwise_remeshing.h"
 #include "random_segmentation.h"
 #include "reference_surface.h"
 
 namespace molremesh {
 
 /// Pipeline stages, in the order they run.
-enum class PipelineStage { Clean, Cvt, Segment };
+enum class PipelineStage { Clean, Cvt, Segment, Rar };
 
 struct PipelineStageInfo {
   PipelineStage stage;
@@ -41,6 +42,7 @@ inline const std::vector<PipelineStageInfo>& PipelineStages() {
       {PipelineStage::Clean, "clean", "clean the raw mesh (duplicates, degenerate faces, non-manifold, holes)"},
       {PipelineStage::Cvt, "cvt", "centroidal Voronoi tessellation initialization"},
       {PipelineStage::Segment, "segment", "random segmentation into patches"},
+      {PipelineStage::Rar, "rar", "patch-wise real-time adaptive remeshing (borders locked, then the strip around them)"},
   };
   return stages;
 }
@@ -115,6 +117,7 @@ public:
     typename CleanRawMesh<MeshType>::Params clean;
     typename CvtInitialization<MeshType>::Params cvt;
     typename RandomSegmentation<MeshType>::Params segment;
+    typename PatchwiseRemeshing<MeshType>::Params rar; ///< rar.rar.targetEdgeLength 0 = the pipeline's L; threads: the pipeline's
   };
 
   static std::vector<PipelineStage> AllStages() {
@@ -211,6 +214,31 @@ public:
                          std::to_string(r.borderEdges) + "\nborder vertices: " + std::to_string(r.borderVertices) + "\n";
         result.patchCount = r.patchCount;
         result.facePatch = std::move(r.facePatch);
+        break;
+      }
+      case PipelineStage::Rar: {
+        ensureTargetLength();
+        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
+        std::string segmentSummary;
+        if (result.facePatch.size() != m.face.size()) {
+          // No segmentation of this mesh yet: segment with the pipeline's seed first.
+          auto segmentParams = params.segment;
+          segmentParams.seed = params.seed;
+          SegmentationResult seg = RandomSegmentation<MeshType>::Do(m, segmentParams);
+          if (!seg.ok) return fail(record, seg.message);
+          segmentSummary = "segmented first: " + std::to_string(seg.patchCount) + " patches\n";
+          result.patchCount = seg.patchCount;
+          result.facePatch = std::move(seg.facePatch);
+        }
+        auto rarParams = params.rar;
+        if (rarParams.rar.targetEdgeLength <= 0) rarParams.rar.targetEdgeLength = result.targetEdgeLength;
+        rarParams.threads = params.threads;
+        const auto r = PatchwiseRemeshing<MeshType>::Do(m, *reference, result.facePatch, rarParams);
+        if (!r.ok) return fail(record, r.message);
+        record.summary = segmentSummary + r.Summary();
+        // The faces changed: the segmentation no longer describes them.
+        result.facePatch.clear();
+        result.patchCount = 0;
         break;
       }
       }
