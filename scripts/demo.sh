@@ -38,6 +38,10 @@ for mesh in "${meshes[@]}"; do
   grep -E "(Irregular|Obtuse|Small-angle)" "$out/${name}_meshlab_color.log" || true
   echo "   -> $out/${name}_meshlab_colored.ply (open it in MeshLab: red = irregular vertex / obtuse face," \
        "blue = angle < 30 deg, magenta = both)"
+  echo
+  echo "== $name: remeshing (clean, CVT, segmentation, patch-wise RAR) -> $out/${name}_remeshed.ply"
+  "$build/cli/molremesh" remesh "$mesh" "$out/${name}_remeshed.ply" --stages clean,cvt,segment,rar --quiet
+  "$build/cli/molremesh" color "$out/${name}_remeshed.ply" "$out/${name}_remeshed_colored.ply"
 done
 echo
 echo "Done. The filters are in MeshLab under Filters > Remeshing, Simplification and Reconstruction."
