@@ -2,7 +2,10 @@
 // (test_reference_surface, test_local_remeshing_ops, test_cvt_initialization).
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <vcg_ext/mesh_quality.h>
+#include <vcg_ext/surface_distance.h>
 #include <vcg_ext/mesh_types.h>
 
 #include <vcg/complex/algorithms/clean.h>
@@ -11,6 +14,7 @@
 
 #include <array>
 #include <cmath>
+#include <algorithm>
 #include <vector>
 
 namespace molremesh::test {
@@ -22,8 +26,8 @@ using Point = vcg::Point3d;
 class VertexF;
 class FaceF;
 struct UsedTypesF : public vcg::UsedTypes<vcg::Use<VertexF>::AsVertexType, vcg::Use<FaceF>::AsFaceType> {};
-class VertexF : public vcg::Vertex<UsedTypesF, vcg::vertex::Coord3f, vcg::vertex::Normal3f, vcg::vertex::BitFlags,
-                                   vcg::vertex::VFAdj, vcg::vertex::Mark> {};
+class VertexF : public vcg::Vertex<UsedTypesF, vcg::vertex::Coord3f, vcg::vertex::Normal3f,
+                                   vcg::vertex::BitFlags, vcg::vertex::VFAdj, vcg::vertex::Mark> {};
 class FaceF : public vcg::Face<UsedTypesF, vcg::face::VertexRef, vcg::face::Normal3f, vcg::face::BitFlags,
                                vcg::face::FFAdj, vcg::face::VFAdj, vcg::face::Mark> {};
 class MeshF : public vcg::tri::TriMesh<std::vector<VertexF>, std::vector<FaceF>> {};
@@ -35,12 +39,14 @@ void MakeMesh(Mesh& m, const std::vector<Point>& points, const std::vector<std::
   if (!points.empty()) vcg::tri::Allocator<Mesh>::AddVertices(m, points.size());
   for (std::size_t i = 0; i < points.size(); ++i)
     m.vert[i].P() = typename Mesh::CoordType(points[i][0], points[i][1], points[i][2]);
-  for (const auto& f : faces) vcg::tri::Allocator<Mesh>::AddFace(m, &m.vert[f[0]], &m.vert[f[1]], &m.vert[f[2]]);
+  for (const auto& f : faces)
+    vcg::tri::Allocator<Mesh>::AddFace(m, &m.vert[f[0]], &m.vert[f[1]], &m.vert[f[2]]);
 }
 
 /// Subdivided icosahedron (outward oriented), scaled per axis by radii and moved to center.
 template <class Mesh>
-void Icosphere(Mesh& m, int subdivisions, const Point& center = Point(0, 0, 0), const Point& radii = Point(1, 1, 1)) {
+void Icosphere(Mesh& m, int subdivisions, const Point& center = Point(0, 0, 0),
+               const Point& radii = Point(1, 1, 1)) {
   m.Clear();
   vcg::tri::Sphere(m, subdivisions);
   vcg::tri::Allocator<Mesh>::CompactEveryVector(m);
@@ -86,6 +92,35 @@ inline double MeanEdge(const MeshD& m) {
   typename MeshQuality<MeshD>::Params p;
   p.computeSelfIntersections = false;
   return MeshQuality<MeshD>::Compute(m, p).meanEdgeLength;
+}
+
+// Invariants every remeshing stage keeps (DESIGN-NOTES.md), as gtest expectations shared by the
+// stage tests: before/after are the quality reports of the stage's input and output.
+inline void ExpectTwoManifoldWithoutDegenerateFaces(const QualityReport& after) {
+  EXPECT_TRUE(after.isTwoManifold());
+  EXPECT_EQ(after.degenerateFaces, 0u);
+}
+
+inline void ExpectNoSelfIntersection(const QualityReport& after) {
+  EXPECT_EQ(after.selfIntersectingPairs, 0u);
+  EXPECT_EQ(after.adjacentOverlapPairs, 0u);
+}
+
+inline void ExpectComponentsClosedWithTheirGenus(const QualityReport& before, const QualityReport& after) {
+  ASSERT_EQ(after.componentInfo.size(), before.componentInfo.size());
+  for (std::size_t c = 0; c < before.componentInfo.size(); ++c) {
+    EXPECT_EQ(after.componentInfo[c].closed, before.componentInfo[c].closed);
+    EXPECT_EQ(after.componentInfo[c].genus, before.componentInfo[c].genus);
+  }
+}
+
+/// Every vertex of output within maxDistance of the input surface.
+inline void ExpectVerticesOnInput(const MeshD& output, const MeshD& input, double maxDistance) {
+  const std::vector<double> d = SurfaceDistance<MeshD, MeshD>::VertexDistances(output, input, 2);
+  double worst = 0;
+  for (const double x : d)
+    if (!std::isnan(x)) worst = std::max(worst, x);
+  EXPECT_LT(worst, maxDistance);
 }
 
 } // namespace molremesh::test
