@@ -79,8 +79,8 @@ enum class OpRefusal : int {
 
 /// Thresholds of the checks every operation runs (see the file comment for their meaning).
 struct LocalOpsGuards {
-  double minAngleDeg = 10.0;           ///< new angles below it only if the region's smallest angle improves
-  double maxAngleDeg = 180.0;          ///< new angles above it only if the region's largest angle improves (180 = off)
+  double minAngleDeg = 10.0;  ///< new angles below it only if the region's smallest angle improves
+  double maxAngleDeg = 180.0; ///< new angles above it only if the region's largest angle improves (180 = off)
   double maxNormalDeviationDeg = 75.0; ///< new face normal vs reference normal at its corners
   double maxFoldAngleDeg = 120.0;      ///< angle between the normals of two adjacent faces
   double minAreaFactor = 1e-8;         ///< faces with area below factor * L^2 are never created
@@ -148,7 +148,8 @@ bool FacesIntersect(const std::array<Point, 3>& a, const Point& na, const std::a
 /// one on the boundary). Then two faces of the star that share only the center meet nowhere
 /// else: their projections lie in disjoint wedges, and a common point would project onto the
 /// center, which only the center itself does (no face is parallel to the projection direction).
-inline bool StarIsSimpleFan(const Point& center, const std::pair<Point, Point>* link, int count, bool boundary) {
+inline bool StarIsSimpleFan(const Point& center, const std::pair<Point, Point>* link, int count,
+                            bool boundary) {
   if (count < 1) return false;
   Point d(0, 0, 0);
   for (int i = 0; i < count; ++i) d += (link[i].first - center) ^ (link[i].second - center);
@@ -185,7 +186,7 @@ struct BatchMoveResult {
 
 /// What the operations did since the object was created (or ResetStats).
 struct LocalOpsStats {
-  std::size_t splits = 0, collapses = 0, flips = 0, moves = 0;
+  std::size_t splits = 0, collapses = 0, flips = 0, moves = 0, replacements = 0;
   std::array<std::size_t, std::size_t(OpRefusal::Count)> refused{}; ///< by OpRefusal
   std::size_t Refused() const {
     std::size_t n = 0;
@@ -239,6 +240,24 @@ public:
   bool CollapseEdge(FacePointer f, int z, double maxNewEdgeLength = std::numeric_limits<double>::infinity());
   /// Flips interior edge z of f.
   bool FlipEdge(FacePointer f, int z);
+  /// The boundary of a set of faces that forms a topological disk: `loop` gets its vertices in
+  /// the faces' orientation (loop[i] -> loop[i+1] is an edge of a region face), `interior` the
+  /// vertices all of whose faces are in the region. False (with Topology or Boundary as the last
+  /// refusal) when the faces are not one disk with one simple boundary loop, or when the region
+  /// reaches the mesh border.
+  bool DiskBoundary(const std::vector<FacePointer>& region, std::vector<VertexPointer>& loop,
+                    std::vector<VertexPointer>& interior);
+  /// Replaces a disk of faces (see DiskBoundary; `loop` must be the loop it returns) by a new
+  /// triangulation: `triangles` index loop vertices as 0..n-1 and new vertices as n..n+k-1,
+  /// where the k new vertices are `newPoints` projected onto the reference (near the footpoint of
+  /// the closest loop vertex). Triangles must be oriented like the loop and cover the disk once
+  /// (each loop edge used once, each inner edge twice). The region's interior vertices are
+  /// removed. Every guard of the other operations applies; refused = mesh unchanged. `created`
+  /// receives the new vertices. May reallocate m.vert / m.face (pointers held by the caller are
+  /// then invalid; indices are not).
+  bool ReplaceDisk(const std::vector<FacePointer>& region, const std::vector<VertexPointer>& loop,
+                   const std::vector<Point>& newPoints, const std::vector<std::array<int, 3>>& triangles,
+                   std::vector<VertexPointer>* created = nullptr);
   /// Moves v toward target: target is projected onto the reference near v's footpoint.
   bool RelocateVertex(VertexPointer v, const Point& target);
   /// Moves v to a point already on the reference (footFace: the reference face holding it).
@@ -252,8 +271,9 @@ public:
   /// the vertices of failing faces are put back and their neighbourhoods verified again until
   /// nothing fails. Deterministic for any thread count. Locked, boundary and unreferenced
   /// vertices are not moved (counted as rejected).
-  BatchMoveResult MoveVerticesJacobi(const std::vector<std::uint32_t>& vertices, const std::vector<Point>& targets,
-                                     const std::vector<int>& feet, int threads);
+  BatchMoveResult MoveVerticesJacobi(const std::vector<std::uint32_t>& vertices,
+                                     const std::vector<Point>& targets, const std::vector<int>& feet,
+                                     int threads);
 
   /// Deferred form of MoveVerticesJacobi, for smoothing loops that verify every few steps:
   /// moves v to a point on the reference (in reference face footFace) without any check,
@@ -289,7 +309,10 @@ public:
   double TargetEdgeLength() const { return L_; }
   void SetTargetEdgeLength(double L) { L_ = L; }
   const LocalOpsGuards& Guards() const { return guards_; }
-  void SetGuards(const LocalOpsGuards& g) { guards_ = g; UpdateGuardCosines(); }
+  void SetGuards(const LocalOpsGuards& g) {
+    guards_ = g;
+    UpdateGuardCosines();
+  }
   const Reference& GetReference() const { return ref_; }
   MeshType& Mesh() { return m_; }
   const LocalOpsStats& Stats() const { return stats_; }
@@ -306,7 +329,9 @@ public:
   static std::string AdjacencyProblem(const MeshType& m);
 
   static Point ToPoint(const CoordType& c) { return Point(double(c[0]), double(c[1]), double(c[2])); }
-  static CoordType ToCoord(const Point& p) { return CoordType(ScalarType(p[0]), ScalarType(p[1]), ScalarType(p[2])); }
+  static CoordType ToCoord(const Point& p) {
+    return CoordType(ScalarType(p[0]), ScalarType(p[1]), ScalarType(p[2]));
+  }
 
 private:
   /// A face an operation would produce, with its corners' new positions and footpoints.
@@ -316,16 +341,16 @@ private:
     std::array<int, 3> foot{};
     std::array<FacePointer, 3> outside{}; ///< face across edge e (v[e], v[e+1]) outside the region, or null
     // Filled by CheckRegion:
-    std::array<int, 3> internal{};        ///< new face across edge e, or -1
-    Point n{0, 0, 0};                     ///< unit normal
+    std::array<int, 3> internal{}; ///< new face across edge e, or -1
+    Point n{0, 0, 0};              ///< unit normal
     vcg::Box3d box;
   };
   /// Worst values over a set of faces, as cosines (larger angle = smaller cosine).
   struct RegionMetrics {
-    double cosMinAngle = -1;  ///< cos of the smallest angle (max over faces)
-    double cosMaxAngle = 1;   ///< cos of the largest angle (min over faces)
-    double cosNormal = 1;     ///< cos of the largest deviation from the reference normal
-    double cosFold = 1;       ///< cos of the largest angle between adjacent normals
+    double cosMinAngle = -1; ///< cos of the smallest angle (max over faces)
+    double cosMaxAngle = 1;  ///< cos of the largest angle (min over faces)
+    double cosNormal = 1;    ///< cos of the largest deviation from the reference normal
+    double cosFold = 1;      ///< cos of the largest angle between adjacent normals
   };
 
   std::size_t VIndex(const VertexType& v) const { return std::size_t(&v - &m_.vert[0]); }
@@ -393,8 +418,8 @@ private:
   double minArea2_ = 0; ///< squared (2 * area) threshold
   double tol_ = 0;      ///< snap distance of the intersection predicates
 
-  std::vector<int> foot_;               ///< per vertex: reference face of its footpoint
-  std::vector<std::uint8_t> locked_;    ///< per vertex
+  std::vector<int> foot_;            ///< per vertex: reference face of its footpoint
+  std::vector<std::uint8_t> locked_; ///< per vertex
   std::vector<std::uint32_t> vertStamp_, faceStamp_;
   std::uint32_t stamp_ = 0;
   std::vector<std::size_t> freeVerts_, freeFaces_;
@@ -440,7 +465,7 @@ private:
   std::vector<std::uint8_t> updateInPlace_;
   std::vector<FaceVerdict> verdicts_;
   std::vector<FaceHashGrid::QueryMarks> marks_;
-  double margin_ = 0; ///< separating-plane margin of the fast intersection rejection
+  double margin_ = 0;      ///< separating-plane margin of the fast intersection rejection
   bool hasBorder_ = false; ///< some edge is a border edge (otherwise no vertex is on the boundary)
 
   // Scratch buffers (kept to avoid allocation in the operations).
@@ -448,6 +473,7 @@ private:
   std::vector<FacePointer> oldFaces_;
   std::vector<std::pair<FacePointer, int>> star0_, star1_;
   std::vector<std::size_t> candidates_;
+  std::vector<std::pair<VertexPointer, VertexPointer>> loopEdges_;
 };
 
 // ------------------------------------------------------------------------------------------------
@@ -492,7 +518,8 @@ std::string LocalRemeshingOps<MeshType>::AdjacencyProblem(const MeshType& m) {
         continue;
       }
       if (w < 0 || w > 2 || g->cFFp(w) != &f || g->cFFi(w) != e) return where + "FF link not mutual";
-      if (g->cV(w) != f.cV((e + 1) % 3) || g->cV((w + 1) % 3) != f.cV(e)) return where + "FF link across another edge";
+      if (g->cV(w) != f.cV((e + 1) % 3) || g->cV((w + 1) % 3) != f.cV(e))
+        return where + "FF link across another edge";
     }
   }
   for (std::size_t vi = 0; vi < m.vert.size(); ++vi) {
@@ -538,12 +565,13 @@ bool LocalRemeshingOps<MeshType>::PrepareTopology(MeshType& m, std::string* erro
       if (IsBorder(f, e)) continue;
       const FaceType* g = f.cFFp(e);
       const int w = f.cFFi(e);
-      if (g->cFFp(w) != &f) ++nonManifoldEdges;
-      else if (g->cV(w) != f.cV((e + 1) % 3) || g->cV((w + 1) % 3) != f.cV(e)) ++misoriented;
+      if (g->cFFp(w) != &f)
+        ++nonManifoldEdges;
+      else if (g->cV(w) != f.cV((e + 1) % 3) || g->cV((w + 1) % 3) != f.cV(e))
+        ++misoriented;
     }
   }
-  if (nonManifoldEdges > 0)
-    return fail("the mesh has non-manifold edges; run the cleaning stage first");
+  if (nonManifoldEdges > 0) return fail("the mesh has non-manifold edges; run the cleaning stage first");
   if (misoriented > 0) return fail("the mesh is not consistently oriented; run the cleaning stage first");
   for (auto& v : m.vert) {
     if (v.IsD() || v.VFp() == nullptr) continue;
@@ -737,7 +765,8 @@ void LocalRemeshingOps<MeshType>::Release(VertexType& v) {
 // --- Queries -------------------------------------------------------------------------------------
 
 template <class MeshType>
-bool LocalRemeshingOps<MeshType>::GatherStar(const VertexType* v, std::vector<std::pair<FacePointer, int>>& star) const {
+bool LocalRemeshingOps<MeshType>::GatherStar(const VertexType* v,
+                                             std::vector<std::pair<FacePointer, int>>& star) const {
   star.clear();
   bool boundary = false;
   for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(v)); !it.End(); ++it) {
@@ -852,7 +881,8 @@ typename LocalRemeshingOps<MeshType>::RegionMetrics LocalRemeshingOps<MeshType>:
     r.cosMinAngle = std::max(r.cosMinAngle, cmin);
     r.cosMaxAngle = std::min(r.cosMaxAngle, cmax);
     const Point n = FaceNormal(*f);
-    const std::array<int, 3> feet{foot_[VIndex(*f->cV(0))], foot_[VIndex(*f->cV(1))], foot_[VIndex(*f->cV(2))]};
+    const std::array<int, 3> feet{foot_[VIndex(*f->cV(0))], foot_[VIndex(*f->cV(1))],
+                                  foot_[VIndex(*f->cV(2))]};
     const Point s = RefNormalSum(feet);
     const double len = s.Norm();
     r.cosNormal = std::min(r.cosNormal, len > 1e-12 ? (n * s) / len : -1.0);
@@ -905,8 +935,10 @@ OpRefusal LocalRemeshingOps<MeshType>::CheckRegion(double maxEdgeLength, const V
             break;
           }
       }
-      if (nf.internal[e] >= 0) nm.cosFold = std::min(nm.cosFold, nf.n * newFaces_[nf.internal[e]].n);
-      else if (nf.outside[e] != nullptr) nm.cosFold = std::min(nm.cosFold, nf.n * FaceNormal(*nf.outside[e]));
+      if (nf.internal[e] >= 0)
+        nm.cosFold = std::min(nm.cosFold, nf.n * newFaces_[nf.internal[e]].n);
+      else if (nf.outside[e] != nullptr)
+        nm.cosFold = std::min(nm.cosFold, nf.n * FaceNormal(*nf.outside[e]));
     }
   }
   const bool minOk = nm.cosMinAngle <= cosMinAngleGuard_;
@@ -964,7 +996,8 @@ bool LocalRemeshingOps<MeshType>::NewFacesIntersect() {
     for (std::size_t j = i + 1; j < n; ++j) {
       const NewFace& a = newFaces_[i];
       const NewFace& b = newFaces_[j];
-      if (FaceHashGrid::Touch(a.box, b.box) && FacesIntersect(a.p, a.n, a.v, b.p, b.n, b.v, margin_)) return true;
+      if (FaceHashGrid::Touch(a.box, b.box) && FacesIntersect(a.p, a.n, a.v, b.p, b.n, b.v, margin_))
+        return true;
     }
   return false;
 }
@@ -1036,7 +1069,7 @@ LocalRemeshingOps<MeshType>::VerifyBatchFace(std::size_t fi, FaceHashGrid::Query
     if (partner >= 0) return;
     if (faceStamp_[gi] == stamp_ && gi < fi) return; // verified from the other side
     const FaceType& g = m_.face[gi];
-    if (!moved && !MovedInBatch(g)) return;          // two untouched faces: not new
+    if (!moved && !MovedInBatch(g)) return; // two untouched faces: not new
     std::array<Point, 3> q;
     std::array<VertexPointer, 3> gv{};
     for (int k = 0; k < 3; ++k) {
@@ -1131,9 +1164,13 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
     // than a grid query per face.
     const bool sweep = guards_.checkIntersections && 4 * dirty_.size() > std::size_t(m_.fn);
     verdicts_.assign(dirty_.size(), FaceVerdict());
-    ParallelFor(dirty_.size(), nThreads, [&](std::size_t begin, std::size_t end, int t) {
-      for (std::size_t i = begin; i < end; ++i) verdicts_[i] = VerifyBatchFace(dirty_[i], marks_[t], !sweep);
-    }, 256);
+    ParallelFor(
+        dirty_.size(), nThreads,
+        [&](std::size_t begin, std::size_t end, int t) {
+          for (std::size_t i = begin; i < end; ++i)
+            verdicts_[i] = VerifyBatchFace(dirty_[i], marks_[t], !sweep);
+        },
+        256);
     scanPairs_.clear();
     if (sweep) {
       simpleFan_.assign(m_.vert.size(), 0);
@@ -1153,23 +1190,30 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
             link[count++] = {Pos(it.F()->cV((k + 1) % 3)), Pos(it.F()->cV((k + 2) % 3))};
             if (IsBorder(*it.F(), k) || IsBorder(*it.F(), (k + 2) % 3)) boundary = true;
           }
-          if (!overflow) simpleFan_[vi] = local_ops_detail::StarIsSimpleFan(Pos(&v), link.data(), count, boundary);
+          if (!overflow)
+            simpleFan_[vi] = local_ops_detail::StarIsSimpleFan(Pos(&v), link.data(), count, boundary);
         }
       });
-      scan_.Build(m_.face.size(), [&](std::size_t fi, TrianglePairScan::Triangle& t) {
-        const FaceType& f = m_.face[fi];
-        if (f.IsD()) return;
-        t.live = true;
-        t.moved = MovedInBatch(f);
-        for (int k = 0; k < 3; ++k) {
-          t.p[k] = Pos(f.cV(k));
-          t.v[k] = std::uint32_t(VIndex(*f.cV(k)));
-        }
-      }, nThreads);
-      scan_.FindPairs(nThreads, [&](const TrianglePairScan::Triangle& a, const TrianglePairScan::Triangle& b) {
-        return local_ops_detail::FacesIntersect(a.p, a.n, a.v, b.p, b.n, b.v, margin_,
-                                                [&](std::uint32_t v) { return simpleFan_[v] != 0; });
-      }, scanPairs_);
+      scan_.Build(
+          m_.face.size(),
+          [&](std::size_t fi, TrianglePairScan::Triangle& t) {
+            const FaceType& f = m_.face[fi];
+            if (f.IsD()) return;
+            t.live = true;
+            t.moved = MovedInBatch(f);
+            for (int k = 0; k < 3; ++k) {
+              t.p[k] = Pos(f.cV(k));
+              t.v[k] = std::uint32_t(VIndex(*f.cV(k)));
+            }
+          },
+          nThreads);
+      scan_.FindPairs(
+          nThreads,
+          [&](const TrianglePairScan::Triangle& a, const TrianglePairScan::Triangle& b) {
+            return local_ops_detail::FacesIntersect(a.p, a.n, a.v, b.p, b.n, b.v, margin_,
+                                                    [&](std::uint32_t v) { return simpleFan_[v] != 0; });
+          },
+          scanPairs_);
     }
     reverted.clear();
     auto revertFace = [&](const FaceType& f) {
@@ -1197,8 +1241,10 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
   }
   for (const BatchEntry& b : batch_) {
     batchIndex_[b.vertex] = -1;
-    if (b.atTarget) ++result.applied;
-    else ++result.rejected;
+    if (b.atTarget)
+      ++result.applied;
+    else
+      ++result.rejected;
   }
   stats_.moves += result.applied;
   batch_.clear();
@@ -1253,7 +1299,8 @@ bool LocalRemeshingOps<MeshType>::MoveVertexTo(VertexPointer v, const Point& onS
 
   v->P() = stored;
   foot_[vi] = footFace;
-  for (std::size_t i = 0; i < star0_.size(); ++i) grid_.Update(FIndex(*star0_[i].first), FaceBox(*star0_[i].first));
+  for (std::size_t i = 0; i < star0_.size(); ++i)
+    grid_.Update(FIndex(*star0_[i].first), FaceBox(*star0_[i].first));
   ++stats_.moves;
   lastRefusal_ = OpRefusal::None;
   return true;
@@ -1439,7 +1486,8 @@ bool LocalRemeshingOps<MeshType>::CollapseEdge(FacePointer f, int z, double maxN
   const VertexPointer vrr = edgeBorder ? nullptr : g->V((w + 2) % 3);
   if (vl == vrr) return Refuse(OpRefusal::Topology), false;
   if (IsBorder(*f, (z + 1) % 3) && IsBorder(*f, (z + 2) % 3)) return Refuse(OpRefusal::Topology), false;
-  if (!edgeBorder && IsBorder(*g, (w + 1) % 3) && IsBorder(*g, (w + 2) % 3)) return Refuse(OpRefusal::Topology), false;
+  if (!edgeBorder && IsBorder(*g, (w + 1) % 3) && IsBorder(*g, (w + 2) % 3))
+    return Refuse(OpRefusal::Topology), false;
   for (const VertexPointer o : {vl, vrr})
     if (o != nullptr && !IsBoundaryVertex(*o) && Valence(*o) <= 3) return Refuse(OpRefusal::Topology), false;
   NewStamp();
@@ -1450,7 +1498,8 @@ bool LocalRemeshingOps<MeshType>::CollapseEdge(FacePointer f, int z, double maxN
   for (const auto& [face, k] : starK)
     for (const int j : {(k + 1) % 3, (k + 2) % 3}) {
       const VertexPointer u = face->V(j);
-      if (u != vl && u != vrr && u != vr && vertStamp_[VIndex(*u)] == stamp_) return Refuse(OpRefusal::Topology), false;
+      if (u != vl && u != vrr && u != vr && vertStamp_[VIndex(*u)] == stamp_)
+        return Refuse(OpRefusal::Topology), false;
     }
 
   // Position of the survivor.
@@ -1551,7 +1600,8 @@ bool LocalRemeshingOps<MeshType>::FlipEdge(FacePointer f, int z) {
   for (const VertexPointer u : {v0, v1})
     if (Valence(*u) <= (IsBoundaryVertex(*u) ? 2 : 3)) return Refuse(OpRefusal::Topology), false;
   for (vcg::face::VFIterator<FaceType> it(v2); !it.End(); ++it)
-    if (it.F()->V((it.I() + 1) % 3) == v3 || it.F()->V((it.I() + 2) % 3) == v3) return Refuse(OpRefusal::Topology), false;
+    if (it.F()->V((it.I() + 1) % 3) == v3 || it.F()->V((it.I() + 2) % 3) == v3)
+      return Refuse(OpRefusal::Topology), false;
 
   NewStamp();
   faceStamp_[FIndex(*f)] = stamp_;
@@ -1618,6 +1668,235 @@ bool LocalRemeshingOps<MeshType>::FlipEdge(FacePointer f, int z) {
   grid_.Update(FIndex(*f), FaceBox(*f));
   grid_.Update(FIndex(*g), FaceBox(*g));
   ++stats_.flips;
+  lastRefusal_ = OpRefusal::None;
+  return true;
+}
+
+// --- Disk replacement ----------------------------------------------------------------------------
+
+template <class MeshType>
+bool LocalRemeshingOps<MeshType>::DiskBoundary(const std::vector<FacePointer>& region,
+                                               std::vector<VertexPointer>& loop,
+                                               std::vector<VertexPointer>& interior) {
+  loop.clear();
+  interior.clear();
+  if (region.empty()) return Refuse(OpRefusal::Topology), false;
+  NewStamp();
+  for (const FacePointer f : region) {
+    if (f->IsD() || faceStamp_[FIndex(*f)] == stamp_) return Refuse(OpRefusal::Topology), false;
+    faceStamp_[FIndex(*f)] = stamp_;
+  }
+  // Boundary edges: region edges whose other side is outside the region. vertStamp_ marks the
+  // start vertex of a boundary edge; next_ holds its end (one outgoing edge per vertex allowed).
+  std::vector<std::pair<VertexPointer, VertexPointer>>& edges = loopEdges_;
+  edges.clear();
+  for (const FacePointer f : region)
+    for (int e = 0; e < 3; ++e) {
+      if (IsBorder(*f, e)) return Refuse(OpRefusal::Boundary), false;
+      if (faceStamp_[FIndex(*f->FFp(e))] != stamp_) edges.emplace_back(f->V(e), f->V((e + 1) % 3));
+    }
+  if (edges.size() < 3) return Refuse(OpRefusal::Topology), false;
+  for (const auto& [a, b] : edges) {
+    if (vertStamp_[VIndex(*a)] == stamp_) return Refuse(OpRefusal::Topology), false; // pinched loop
+    vertStamp_[VIndex(*a)] = stamp_;
+  }
+  // Walk the loop (edges are few: a linear search per step is cheapest).
+  loop.push_back(edges[0].first);
+  VertexPointer cur = edges[0].second;
+  while (cur != loop.front()) {
+    if (loop.size() > edges.size()) return Refuse(OpRefusal::Topology), false;
+    loop.push_back(cur);
+    const auto it = std::find_if(edges.begin(), edges.end(), [&](const auto& ab) { return ab.first == cur; });
+    if (it == edges.end()) return Refuse(OpRefusal::Topology), false;
+    cur = it->second;
+  }
+  if (loop.size() != edges.size()) return Refuse(OpRefusal::Topology), false; // several loops
+  // Interior vertices: on region faces, not on the loop; all their faces must be region faces.
+  for (const FacePointer f : region)
+    for (int k = 0; k < 3; ++k) {
+      const VertexPointer u = f->V(k);
+      if (vertStamp_[VIndex(*u)] == stamp_) continue;
+      vertStamp_[VIndex(*u)] = stamp_;
+      for (vcg::face::VFIterator<FaceType> it(u); !it.End(); ++it)
+        if (faceStamp_[FIndex(*it.F())] != stamp_) return Refuse(OpRefusal::Topology), false;
+      interior.push_back(u);
+    }
+  // Euler characteristic of a disk: V - E + F = 1.
+  const long V = long(loop.size() + interior.size()), F = long(region.size());
+  const long E = (3 * F + long(loop.size())) / 2;
+  if (V - E + F != 1) return Refuse(OpRefusal::Topology), false;
+  return true;
+}
+
+template <class MeshType>
+bool LocalRemeshingOps<MeshType>::ReplaceDisk(const std::vector<FacePointer>& regionIn,
+                                              const std::vector<VertexPointer>& loopIn,
+                                              const std::vector<Point>& newPoints,
+                                              const std::vector<std::array<int, 3>>& triangles,
+                                              std::vector<VertexPointer>* created) {
+  if (HasPendingMoves()) VerifyPendingMoves();
+  if (created) created->clear();
+  const std::size_t n = loopIn.size(), k = newPoints.size(), total = n + k;
+  if (triangles.empty()) return Refuse(OpRefusal::Topology), false;
+  // Element pointers may move when room is made: work on indices across EnsureFree.
+  std::vector<std::size_t> regionIdx, loopIdx;
+  for (const FacePointer f : regionIn) regionIdx.push_back(FIndex(*f));
+  for (const VertexPointer v : loopIn) loopIdx.push_back(VIndex(*v));
+  FacePointer any = regionIn.empty() ? nullptr : regionIn.front();
+  if (any == nullptr) return Refuse(OpRefusal::Topology), false;
+  EnsureFree(k, triangles.size(), any);
+  std::vector<FacePointer> region;
+  std::vector<VertexPointer> loop, interior;
+  for (const std::size_t i : regionIdx) region.push_back(&m_.face[i]);
+  for (const std::size_t i : loopIdx) loop.push_back(&m_.vert[i]);
+
+  std::vector<VertexPointer> checkLoop;
+  if (!DiskBoundary(region, checkLoop, interior)) return false;
+  if (checkLoop.size() != n) return Refuse(OpRefusal::Topology), false;
+  {
+    const auto it = std::find(checkLoop.begin(), checkLoop.end(), loop[0]);
+    if (it == checkLoop.end()) return Refuse(OpRefusal::Topology), false;
+    std::rotate(checkLoop.begin(), it, checkLoop.end());
+    if (checkLoop != loop) return Refuse(OpRefusal::Topology), false;
+  }
+  for (const VertexPointer u : interior)
+    if (locked_[VIndex(*u)]) return Refuse(OpRefusal::Locked), false;
+
+  // The triangulation must cover the disk once: loop edges once in loop direction, inner edges
+  // once in each direction, no inner edge along the loop reversed, every index in range.
+  std::vector<std::pair<int, int>> directed;
+  for (const auto& t : triangles)
+    for (int e = 0; e < 3; ++e) {
+      const int a = t[e], b = t[(e + 1) % 3];
+      if (a < 0 || b < 0 || std::size_t(a) >= total || std::size_t(b) >= total || a == b)
+        return Refuse(OpRefusal::Topology), false;
+      directed.emplace_back(a, b);
+    }
+  std::sort(directed.begin(), directed.end());
+  if (std::adjacent_find(directed.begin(), directed.end()) != directed.end())
+    return Refuse(OpRefusal::Topology), false;
+  auto hasDirected = [&](int a, int b) {
+    return std::binary_search(directed.begin(), directed.end(), std::make_pair(a, b));
+  };
+  auto isLoopEdge = [&](int a, int b) { return a < int(n) && b < int(n) && (a + 1) % int(n) == b; };
+  for (const auto& [a, b] : directed) {
+    if (isLoopEdge(a, b)) continue;
+    if (isLoopEdge(b, a) || !hasDirected(b, a)) return Refuse(OpRefusal::Topology), false;
+  }
+  for (int i = 0; i < int(n); ++i)
+    if (!hasDirected(i, (i + 1) % int(n))) return Refuse(OpRefusal::Topology), false;
+  for (std::size_t j = 0; j < k; ++j) // every new vertex is used
+    if (std::none_of(directed.begin(), directed.end(),
+                     [&](const auto& ab) { return ab.first == int(n + j); }))
+      return Refuse(OpRefusal::Topology), false;
+  // New chords between loop vertices must not exist outside the region, nor join two locked ones.
+  for (const auto& [a, b] : directed) {
+    if (a >= int(n) || b >= int(n) || a > b || isLoopEdge(a, b) || isLoopEdge(b, a)) continue;
+    if (locked_[VIndex(*loop[a])] && locked_[VIndex(*loop[b])]) return Refuse(OpRefusal::Locked), false;
+    for (vcg::face::VFIterator<FaceType> it(loop[a]); !it.End(); ++it) {
+      if (faceStamp_[FIndex(*it.F())] == stamp_) continue;
+      if (it.F()->V((it.I() + 1) % 3) == loop[b] || it.F()->V((it.I() + 2) % 3) == loop[b])
+        return Refuse(OpRefusal::Topology), false;
+    }
+  }
+
+  // New vertices on the reference, near the closest loop vertex.
+  std::vector<Point> pos(total);
+  std::vector<int> feet(total);
+  std::vector<CoordType> stored(k);
+  for (std::size_t i = 0; i < n; ++i) {
+    pos[i] = Pos(loop[i]);
+    feet[i] = foot_[VIndex(*loop[i])];
+  }
+  for (std::size_t j = 0; j < k; ++j) {
+    std::size_t nearest = 0;
+    for (std::size_t i = 1; i < n; ++i)
+      if ((pos[i] - newPoints[j]).SquaredNorm() < (pos[nearest] - newPoints[j]).SquaredNorm()) nearest = i;
+    const SurfaceProjection proj = ref_.Project(newPoints[j], feet[nearest], scratch_);
+    if (!proj.ok()) return Refuse(OpRefusal::Degenerate), false;
+    stored[j] = ToCoord(proj.point);
+    pos[n + j] = ToPoint(stored[j]);
+    feet[n + j] = proj.face;
+  }
+  // Identities for the new vertices until they exist: the free slots they will take.
+  std::vector<VertexPointer> vid(total);
+  for (std::size_t i = 0; i < n; ++i) vid[i] = loop[i];
+  for (std::size_t j = 0; j < k; ++j) vid[n + j] = &m_.vert[freeVerts_[freeVerts_.size() - 1 - j]];
+
+  // Outside neighbours of the loop edges.
+  std::vector<FacePointer> outFace(n, nullptr);
+  std::vector<int> outIndex(n, -1);
+  for (const FacePointer f : region)
+    for (int e = 0; e < 3; ++e) {
+      const FacePointer o = f->FFp(e);
+      if (faceStamp_[FIndex(*o)] == stamp_) continue;
+      const std::size_t i = std::size_t(std::find(loop.begin(), loop.end(), f->V(e)) - loop.begin());
+      outFace[i] = o;
+      outIndex[i] = f->FFi(e);
+    }
+  oldFaces_ = region;
+  newFaces_.clear();
+  for (const auto& t : triangles) {
+    NewFace nf;
+    for (int c = 0; c < 3; ++c) {
+      nf.v[c] = vid[t[c]];
+      nf.p[c] = pos[t[c]];
+      nf.foot[c] = feet[t[c]];
+      nf.outside[c] = isLoopEdge(t[c], t[(c + 1) % 3]) ? outFace[t[c]] : nullptr;
+    }
+    newFaces_.push_back(nf);
+  }
+  const OpRefusal r = CheckRegion();
+  if (r != OpRefusal::None) return Refuse(r), false;
+
+  // Apply: new vertices, new faces (their data from a region face), then drop the old ones.
+  for (std::size_t j = 0; j < k; ++j) {
+    const VertexPointer v = TakeFreeVertex();
+    v->ImportData(*loop[0]);
+    v->P() = stored[j];
+    v->VFp() = nullptr;
+    v->VFi() = -1;
+    foot_[VIndex(*v)] = feet[n + j];
+    locked_[VIndex(*v)] = 0;
+    if (created) created->push_back(v);
+  }
+  std::vector<FacePointer> made;
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    const FacePointer f = TakeFreeFace();
+    f->ImportData(*region[0]);
+    f->ClearD();
+    for (int c = 0; c < 3; ++c) f->V(c) = vid[triangles[t][c]];
+    made.push_back(f);
+  }
+  for (const FacePointer f : region)
+    for (int c = 0; c < 3; ++c) vcg::face::VFDetach(*f, c);
+  for (const FacePointer f : region) Release(*f);
+  for (const VertexPointer u : interior) Release(*u);
+  for (std::size_t t = 0; t < made.size(); ++t) {
+    const FacePointer f = made[t];
+    for (int c = 0; c < 3; ++c) {
+      const int a = triangles[t][c], b = triangles[t][(c + 1) % 3];
+      if (isLoopEdge(a, b)) {
+        f->FFp(c) = outFace[a];
+        f->FFi(c) = outIndex[a];
+        outFace[a]->FFp(outIndex[a]) = f;
+        outFace[a]->FFi(outIndex[a]) = c;
+        continue;
+      }
+      const int s = newFaces_[t].internal[c];
+      const FacePointer g = made[s];
+      for (int d = 0; d < 3; ++d)
+        if (triangles[s][d] == b && triangles[s][(d + 1) % 3] == a) {
+          f->FFp(c) = g;
+          f->FFi(c) = d;
+        }
+    }
+  }
+  for (const FacePointer f : made) {
+    for (int c = 0; c < 3; ++c) VFAppend(f, c);
+    grid_.Insert(FIndex(*f), FaceBox(*f));
+  }
+  ++stats_.replacements;
   lastRefusal_ = OpRefusal::None;
   return true;
 }

@@ -21,15 +21,19 @@
 #include "clean_raw_mesh.h"
 #include "cvt_initialization.h"
 #include "input_check.h"
+#include "local_smoothing.h"
 #include "mesh_quality.h"
+#include "obtuse_reduction.h"
 #include "patchwise_remeshing.h"
 #include "random_segmentation.h"
 #include "reference_surface.h"
+#include "small_angle_elimination.h"
+#include "valence_optimization.h"
 
 namespace molremesh {
 
 /// Pipeline stages, in the order they run.
-enum class PipelineStage { Clean, Cvt, Segment, Rar };
+enum class PipelineStage { Clean, Cvt, Valence, Segment, Rar, Small, Obtuse, Smooth };
 
 struct PipelineStageInfo {
   PipelineStage stage;
@@ -39,10 +43,17 @@ struct PipelineStageInfo {
 
 inline const std::vector<PipelineStageInfo>& PipelineStages() {
   static const std::vector<PipelineStageInfo> stages = {
-      {PipelineStage::Clean, "clean", "clean the raw mesh (duplicates, degenerate faces, non-manifold, holes)"},
+      {PipelineStage::Clean, "clean",
+       "clean the raw mesh (duplicates, degenerate faces, non-manifold, holes)"},
       {PipelineStage::Cvt, "cvt", "centroidal Voronoi tessellation initialization"},
+      {PipelineStage::Valence, "valence",
+       "valence optimization (guarded flips and collapses, removal and refilling of irregular vertices)"},
       {PipelineStage::Segment, "segment", "random segmentation into patches"},
-      {PipelineStage::Rar, "rar", "patch-wise real-time adaptive remeshing (borders locked, then the strip around them)"},
+      {PipelineStage::Rar, "rar",
+       "patch-wise real-time adaptive remeshing (borders locked, then the strip around them)"},
+      {PipelineStage::Small, "small", "small-angle elimination (every angle below the min angle)"},
+      {PipelineStage::Obtuse, "obtuse", "obtuse reduction (vertex translation, pentagon point insertion)"},
+      {PipelineStage::Smooth, "smooth", "local smoothing of the triangles still bad"},
   };
   return stages;
 }
@@ -97,10 +108,10 @@ struct PipelineResult {
   bool ok = true;
   std::string message; ///< why it failed (the mesh is then the input again)
   double targetEdgeLength = 0;
-  QualityReport input;                    ///< the mesh as given
+  QualityReport input;                     ///< the mesh as given
   std::vector<PipelineStageRecord> stages; ///< in order
-  std::vector<int> facePatch;             ///< the segmentation, when the segment stage ran (and no later
-                                          ///< stage changed the faces: rar clears it)
+  std::vector<int> facePatch;              ///< the segmentation, when the segment stage ran (and no later
+                                           ///< stage changed the faces: rar clears it)
   int patchCount = 0;
   double seconds = 0;
 };
@@ -110,14 +121,20 @@ class RemeshPipeline {
 public:
   struct Params {
     std::vector<PipelineStage> stages = AllStages(); ///< which stages run (in pipeline order)
-    double targetEdgeLength = 0;   ///< L for every stage; 0 = mean edge length of the (cleaned) input
-    std::uint64_t seed = 1;        ///< seed of every random choice
-    int threads = 0;               ///< worker threads; 0 = all cores (the output does not depend on it)
-    bool measureEachStage = true;  ///< quality report after each stage (self-intersections included)
+    double targetEdgeLength = 0;  ///< L for every stage; 0 = mean edge length of the (cleaned) input
+    std::uint64_t seed = 1;       ///< seed of every random choice
+    int threads = 0;              ///< worker threads; 0 = all cores (the output does not depend on it)
+    bool measureEachStage = true; ///< quality report after each stage (self-intersections included)
     typename CleanRawMesh<MeshType>::Params clean;
     typename CvtInitialization<MeshType>::Params cvt;
     typename RandomSegmentation<MeshType>::Params segment;
-    typename PatchwiseRemeshing<MeshType>::Params rar; ///< rar.rar.targetEdgeLength 0 = the pipeline's L; threads: the pipeline's
+    typename PatchwiseRemeshing<MeshType>::Params
+        rar; ///< rar.rar.targetEdgeLength 0 = the pipeline's L; threads: the pipeline's
+    // For the following stages targetEdgeLength 0 = the pipeline's L; threads and seed: the pipeline's.
+    typename ValenceOptimization<MeshType>::Params valence;
+    typename SmallAngleElimination<MeshType>::Params small;
+    typename ObtuseReduction<MeshType>::Params obtuse;
+    typename LocalSmoothing<MeshType>::Params smooth;
   };
 
   static std::vector<PipelineStage> AllStages() {
@@ -128,7 +145,8 @@ public:
 
   /// Runs the stages on m. Requires FF and VF adjacency (enabled; they are recomputed).
   /// log, when given, receives one line per event (stage start and end) for progress output.
-  static PipelineResult Do(MeshType& m, const Params& params, const std::function<void(const std::string&)>& log = {},
+  static PipelineResult Do(MeshType& m, const Params& params,
+                           const std::function<void(const std::string&)>& log = {},
                            vcg::CallBackPos* cb = nullptr) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
@@ -210,8 +228,9 @@ public:
         segmentParams.seed = params.seed;
         SegmentationResult r = RandomSegmentation<MeshType>::Do(m, segmentParams);
         if (!r.ok) return fail(record, r.message);
-        record.summary = "patches: " + std::to_string(r.patchCount) + "\nborder edges: " +
-                         std::to_string(r.borderEdges) + "\nborder vertices: " + std::to_string(r.borderVertices) + "\n";
+        record.summary = "patches: " + std::to_string(r.patchCount) +
+                         "\nborder edges: " + std::to_string(r.borderEdges) +
+                         "\nborder vertices: " + std::to_string(r.borderVertices) + "\n";
         result.patchCount = r.patchCount;
         result.facePatch = std::move(r.facePatch);
         break;
@@ -241,6 +260,42 @@ public:
         result.patchCount = 0;
         break;
       }
+      case PipelineStage::Valence: {
+        ensureTargetLength();
+        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
+        if (const std::string error = RunLocalStage<ValenceOptimization<MeshType>>(
+                m, *reference, params.valence, result, params, record.summary);
+            !error.empty())
+          return fail(record, error);
+        break;
+      }
+      case PipelineStage::Small: {
+        ensureTargetLength();
+        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
+        if (const std::string error = RunLocalStage<SmallAngleElimination<MeshType>>(
+                m, *reference, params.small, result, params, record.summary);
+            !error.empty())
+          return fail(record, error);
+        break;
+      }
+      case PipelineStage::Obtuse: {
+        ensureTargetLength();
+        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
+        if (const std::string error = RunLocalStage<ObtuseReduction<MeshType>>(
+                m, *reference, params.obtuse, result, params, record.summary);
+            !error.empty())
+          return fail(record, error);
+        break;
+      }
+      case PipelineStage::Smooth: {
+        ensureTargetLength();
+        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
+        if (const std::string error = RunLocalStage<LocalSmoothing<MeshType>>(m, *reference, params.smooth,
+                                                                              result, params, record.summary);
+            !error.empty())
+          return fail(record, error);
+        break;
+      }
       }
       vcg::tri::Allocator<MeshType>::CompactEveryVector(m);
       record.seconds = std::chrono::duration<double>(Clock::now() - stageStart).count();
@@ -256,6 +311,21 @@ public:
   }
 
 private:
+  /// The stages after RAR share one interface: Do(m, reference, params) -> Result{ok, message,
+  /// Summary()}, with targetEdgeLength, threads and seed in their Params. Returns the error.
+  template <class Stage>
+  static std::string RunLocalStage(MeshType& m, const ReferenceSurface<MeshType>& reference,
+                                   typename Stage::Params stageParams, const PipelineResult& result,
+                                   const Params& params, std::string& summary) {
+    if (stageParams.targetEdgeLength <= 0) stageParams.targetEdgeLength = result.targetEdgeLength;
+    stageParams.threads = params.threads;
+    stageParams.seed = params.seed;
+    const auto r = Stage::Do(m, reference, stageParams);
+    if (!r.ok) return r.message.empty() ? std::string("failed") : r.message;
+    summary = r.Summary();
+    return {};
+  }
+
   static typename MeshQuality<MeshType>::Params NoIntersections() {
     typename MeshQuality<MeshType>::Params p;
     p.computeSelfIntersections = false;
