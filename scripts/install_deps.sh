@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Installs every Debian package molremesh needs to build, test and benchmark (Debian bookworm).
 # Safe to run again: apt skips what is already there. Needs root (or sudo).
-# usage: install_deps.sh [--benchmarks]   (--benchmarks adds CGAL, the benchmark-only baseline)
+# usage: install_deps.sh [--benchmarks] [--pictures]
+#   --benchmarks adds CGAL, the benchmark-only baseline;
+#   --pictures adds ImageMagick, for scripts/make_pictures.sh (README screenshots of the MeshLab GUI).
 set -euo pipefail
 
 packages=(
@@ -13,9 +15,13 @@ packages=(
   xvfb xauth
   tetgen
 )
-if [ "${1:-}" = "--benchmarks" ]; then
-  packages+=(libcgal-dev)
-fi
+for option in "$@"; do
+  case "$option" in
+  --benchmarks) packages+=(libcgal-dev) ;;
+  --pictures) packages+=(imagemagick) ;;
+  *) echo "install_deps: unknown option '$option' (use --benchmarks, --pictures)" >&2; exit 1 ;;
+  esac
+done
 
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then
