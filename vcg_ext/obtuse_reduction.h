@@ -1,41 +1,454 @@
-// Obtuse reduction (Khan et al. 2020, section 3.5): vertex translation for decreasing max-angle thresholds,
-// then pentagon point insertion. STUB: interface only, the algorithm is not written yet (Do refuses and
-// leaves the mesh untouched).
+// Obtuse reduction (Khan et al. 2020, section 3.5): lowers the largest angles of a mesh that lies on
+// a ReferenceSurface, without bringing back angles below Params::minAngleDeg (30 degrees).
+//
+// ObtuseReduction<MeshType> runs the paper's two tools:
+//  1. vertex translation, for decreasing max-angle thresholds (Params::thresholdsDeg: 110, 100 and
+//     90 degrees), up to iterationsPerThreshold rounds each: the vertex at the largest angle of every
+//     triangle above the threshold is moved inside a feasible disc of its tangent plane (radius
+//     discRadiusFactor x its shortest edge), projected back onto the reference near its footpoint.
+//     The disc is sampled (discRings x discDirections positions, deterministic) rather than solved
+//     for exactly: the feasible region (the angle at the vertex below the threshold, every other
+//     angle of the star in [minAngleDeg, threshold)) is an intersection of discs and lunes that a
+//     curved reference bends anyway. The best sample (smallest largest angle of the star, then
+//     largest smallest angle) is applied only when it lowers the star's largest angle and creates
+//     no angle below minAngleDeg (no more star triangles below it, no smaller angle than before);
+//     starting with a threshold of 110 degrees lets the worst angles move first, with room to spare;
+//  2. pentagon point insertion, on the triangles still obtuse: the obtuse triangle, its neighbour
+//     across its longest edge and the neighbour of that one across its own longest edge (of the two
+//     other edges, when the longest is the shared one) form a pentagon when the three are distinct,
+//     make a disk with five boundary vertices and no inner one, and their normals agree within
+//     pentagonNormalDeg. The two inner edges are removed and one vertex is inserted: every edge of
+//     the pentagon sees the new point under an angle below 90 degrees exactly when the point lies
+//     outside the circle having that edge as diameter (Thales), so the point is searched (a
+//     pentagonSamples x pentagonSamples grid over the pentagon in its mean plane, inside the
+//     polygon) for the fan whose largest angle is smallest among those with every angle >=
+//     minAngleDeg. The insertion (LocalRemeshingOps::ReplaceDisk) is accepted only when the largest
+//     angle of the region improves and no angle below minAngleDeg appears.
+//     A last translation round at the final threshold settles the inserted vertices.
+// Triangles that stay obtuse are those where every feasible move is refused by the guards (folds
+// across sharp creases, intersections across narrow gaps) or where the two tools have no room.
+//
+// Every edit goes through LocalRemeshingOps (Params::guards), so the mesh stays a 2-manifold with
+// the same genus and closed components, no intersecting pair appears and every vertex stays on the
+// reference. Edits are local and keep vertices on the reference, so the volume barely changes.
+//
+// Determinism: edits run serially in a fixed order (faces by largest angle, then index); no random
+// choice is made (the seed is accepted for the pipeline's uniform interface); the output does not
+// depend on the thread count. A mesh without an angle above the smallest threshold is only scanned.
 #pragma once
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/input_check.h>
+#include <vcg_ext/local_remeshing_ops.h>
 #include <vcg_ext/reference_surface.h>
 
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace molremesh {
 
 template <class MeshType>
 class ObtuseReduction {
 public:
+  using VertexType = typename MeshType::VertexType;
+  using FaceType = typename MeshType::FaceType;
+  using VertexPointer = typename MeshType::VertexPointer;
+  using FacePointer = typename MeshType::FacePointer;
+  using Ops = LocalRemeshingOps<MeshType>;
   using Reference = ReferenceSurface<MeshType>;
+  using Point = vcg::Point3d;
+
+  /// Guards of the stage's edits: new angles below 30 degrees only where the region's smallest
+  /// angle improves; the largest angle is the stage's own business (checked before each edit).
+  static LocalOpsGuards DefaultGuards() {
+    LocalOpsGuards g;
+    g.minAngleDeg = 30.0;
+    g.maxAngleDeg = 180.0;
+    return g;
+  }
+
   struct Params {
     double targetEdgeLength = 0; ///< L; 0 = mean edge length of the mesh
     int threads = 0;             ///< 0 = all cores (the output does not depend on it)
-    std::uint64_t seed = 1;      ///< seed of every random choice
+    std::uint64_t seed = 1;      ///< seed of every random choice (the stage makes none)
+    std::vector<double> thresholdsDeg{110.0, 100.0,
+                                      90.0}; ///< max-angle thresholds of vertex translation, in order
+    int iterationsPerThreshold = 20;         ///< translation rounds per threshold (cap)
+    double minAngleDeg = 30.0;               ///< no edit creates an angle below it
+    double discRadiusFactor = 0.5;           ///< feasible disc radius, relative to the vertex's shortest edge
+    int discRings = 4;                       ///< sampled radii of the disc
+    int discDirections = 16;                 ///< sampled directions per radius
+    bool pentagonInsertion = true;           ///< pentagon point insertion after the translations
+    double pentagonNormalDeg = 30.0;         ///< the three triangles' normals must agree within this angle
+    int pentagonSamples = 12;                ///< grid resolution of the point search in the pentagon
+    LocalOpsGuards guards =
+        DefaultGuards(); ///< guards of every edit (minAngleDeg is set to Params::minAngleDeg)
   };
+
   struct Result {
     bool ok = false;
-    std::string message; ///< why it failed
-    std::string Summary() const { return message; }
+    std::string message;                           ///< why it failed, or a one-line summary
+    std::size_t obtuseBefore = 0, obtuseAfter = 0; ///< faces with an angle >= 90 degrees
+    double angleMaxBefore = 0, angleMaxAfter = 0;  ///< largest angle, degrees
+    double angleMinBefore = 0, angleMinAfter = 0;  ///< smallest angle, degrees
+    std::size_t moves = 0, insertions = 0;         ///< applied translations and pentagon insertions
+    std::size_t refused = 0;                       ///< edits refused by the guards of LocalRemeshingOps
+    int rounds = 0;                                ///< translation rounds run, all thresholds
+    double seconds = 0;
+    std::string Summary() const {
+      return message + "\nobtuse faces: " + std::to_string(obtuseBefore) + " -> " +
+             std::to_string(obtuseAfter) + "\nlargest angle: " + std::to_string(angleMaxBefore) + " -> " +
+             std::to_string(angleMaxAfter) + "\nsmallest angle: " + std::to_string(angleMinBefore) + " -> " +
+             std::to_string(angleMinAfter) + "\nmoves: " + std::to_string(moves) +
+             "\npentagon insertions: " + std::to_string(insertions) +
+             "\nrefused: " + std::to_string(refused) + "\nrounds: " + std::to_string(rounds) + "\n";
+    }
   };
-  /// Runs the stage on m (a 2-manifold, closed or not, lying on reference). On failure m is
-  /// left untouched and Result::message says why.
+
+  /// Runs the stage on m (a 2-manifold, consistently oriented mesh with FF and VF adjacency
+  /// enabled, lying on reference). On failure m is left untouched (FF/VF adjacency recomputed)
+  /// and Result::message says why.
   static Result Do(MeshType& m, const Reference& reference, const Params& params) {
-    (void)m;
-    (void)reference;
-    (void)params;
+    const auto start = std::chrono::steady_clock::now();
     Result r;
-    r.message = "not implemented yet";
-    return r;
+    auto finish = [&](bool ok, const std::string& message) {
+      r.ok = ok;
+      r.message = message;
+      r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return r;
+    };
+    const std::string refused = "obtuse reduction refused: ";
+    const InputCheck check = CheckTriangleMeshInput(m);
+    if (!check.ok) return finish(false, refused + check.message);
+    if (params.thresholdsDeg.empty()) return finish(false, refused + "no max-angle threshold given");
+    for (const double t : params.thresholdsDeg)
+      if (!(t >= 60.0 && t < 180.0))
+        return finish(false, refused + "max-angle thresholds must be in [60, 180)");
+    if (!(params.minAngleDeg >= 0 && params.minAngleDeg < 60))
+      return finish(false, refused + "minAngleDeg must be in [0, 60)");
+    if (params.iterationsPerThreshold < 0 || params.discRings < 1 || params.discDirections < 1 ||
+        params.pentagonSamples < 1 || !(params.discRadiusFactor > 0))
+      return finish(false, refused + "iteration and sampling counts must be positive");
+    if (reference.Empty()) return finish(false, refused + "the reference surface is empty");
+    std::string error;
+    if (!Ops::PrepareTopology(m, &error)) return finish(false, refused + error);
+    double L = params.targetEdgeLength;
+    if (!(L > 0)) L = MeanEdgeLength(m);
+    if (!(L > 0) || !std::isfinite(L)) return finish(false, refused + "no valid target edge length");
+
+    const double lowest = *std::min_element(params.thresholdsDeg.begin(), params.thresholdsDeg.end());
+    std::size_t above = 0;
+    Measure(m, lowest, r.obtuseBefore, above, r.angleMinBefore, r.angleMaxBefore);
+    if (above == 0 && (!params.pentagonInsertion || r.obtuseBefore == 0)) { // nothing to do: a scan only
+      r.obtuseAfter = r.obtuseBefore;
+      r.angleMaxAfter = r.angleMaxBefore;
+      r.angleMinAfter = r.angleMinBefore;
+      return finish(true, "obtuse reduction: nothing above " + std::to_string(lowest) + " degrees");
+    }
+    LocalOpsGuards guards = params.guards;
+    guards.minAngleDeg = params.minAngleDeg;
+    Ops ops(m, reference, L, guards, params.threads);
+    if (!ops.Init(&error, false, true)) return finish(false, refused + error);
+    Session session(ops, params);
+    session.Run(r);
+    r.refused = ops.Stats().Refused();
+    ops.Finish();
+    vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+    vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+    Measure(m, lowest, r.obtuseAfter, above, r.angleMinAfter, r.angleMaxAfter);
+    return finish(true, "obtuse reduction: " + std::to_string(r.obtuseBefore) + " -> " +
+                            std::to_string(r.obtuseAfter) + " obtuse faces");
   }
+
+  /// Smallest and largest angle (degrees) of triangle (a, b, c).
+  static void Angles(const Point& a, const Point& b, const Point& c, double& minDeg, double& maxDeg) {
+    const double la = (b - c).SquaredNorm(), lb = (c - a).SquaredNorm(), lc = (a - b).SquaredNorm();
+    auto at = [](double opposite, double s1, double s2) {
+      const double d = 2.0 * std::sqrt(s1 * s2);
+      return d > 0 ? std::acos(std::clamp((s1 + s2 - opposite) / d, -1.0, 1.0)) * (180.0 / kPi) : 0.0;
+    };
+    const double A = at(la, lb, lc), B = at(lb, lc, la), C = at(lc, la, lb);
+    minDeg = std::min({A, B, C});
+    maxDeg = std::max({A, B, C});
+  }
+
+private:
+  static constexpr double kPi = 3.14159265358979323846;
+  static Point P(const VertexType* v) { return Ops::ToPoint(v->cP()); }
+
+  static double MeanEdgeLength(const MeshType& m) {
+    double sum = 0;
+    std::size_t n = 0;
+    for (const FaceType& f : m.face) {
+      if (f.IsD()) continue;
+      for (int e = 0; e < 3; ++e) sum += (P(f.cV(e)) - P(f.cV((e + 1) % 3))).Norm(), ++n;
+    }
+    return n ? sum / double(n) : 0.0;
+  }
+
+  static void Measure(const MeshType& m, double threshold, std::size_t& obtuse, std::size_t& above,
+                      double& angleMin, double& angleMax) {
+    obtuse = above = 0;
+    angleMin = 180.0;
+    angleMax = 0.0;
+    for (const FaceType& f : m.face) {
+      if (f.IsD()) continue;
+      double lo, hi;
+      Angles(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), lo, hi);
+      angleMin = std::min(angleMin, lo);
+      angleMax = std::max(angleMax, hi);
+      if (hi >= 90.0) ++obtuse;
+      if (hi > threshold) ++above;
+    }
+  }
+
+  /// Worst angles and number of small-angle triangles of a set of triangles.
+  struct Shape {
+    double minDeg = 180.0, maxDeg = 0.0;
+    int small = 0;
+    void Add(const Point& a, const Point& b, const Point& c, double threshold) {
+      double lo, hi;
+      Angles(a, b, c, lo, hi);
+      minDeg = std::min(minDeg, lo);
+      maxDeg = std::max(maxDeg, hi);
+      if (lo < threshold) ++small;
+    }
+    /// Better for the stage: smaller largest angle first, then larger smallest angle.
+    bool BetterThan(const Shape& o) const {
+      if (maxDeg != o.maxDeg) return maxDeg < o.maxDeg;
+      return minDeg > o.minDeg;
+    }
+  };
+
+  class Session {
+  public:
+    Session(Ops& ops, const Params& params)
+        : ops_(ops), m_(ops.Mesh()), ref_(ops.GetReference()), params_(params) {}
+
+    void Run(Result& r) {
+      for (const double t : params_.thresholdsDeg) TranslationRounds(t, params_.iterationsPerThreshold, r);
+      if (!params_.pentagonInsertion) return;
+      Collect(90.0);
+      for (const auto& [key, fi] : faces_) {
+        if (m_.face[fi].IsD() || !(MaxAngle(m_.face[fi]) >= 90.0)) continue;
+        if (InsertInPentagon(fi)) ++r.insertions;
+      }
+      TranslationRounds(params_.thresholdsDeg.back(), 1, r);
+    }
+
+  private:
+    std::size_t VIndex(const VertexType* v) const { return std::size_t(v - &m_.vert[0]); }
+    double MinAngleBound() const { return params_.minAngleDeg; }
+
+    double MaxAngle(const FaceType& f) const {
+      double lo, hi;
+      Angles(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), lo, hi);
+      return hi;
+    }
+    /// Faces with a largest angle above t (>= when t is 90: obtuse), worst first.
+    void Collect(double t) {
+      faces_.clear();
+      for (std::size_t fi = 0; fi < m_.face.size(); ++fi) {
+        const FaceType& f = m_.face[fi];
+        if (f.IsD()) continue;
+        const double a = MaxAngle(f);
+        if (a > t || (t == 90.0 && a >= t)) faces_.emplace_back(-a, std::uint32_t(fi));
+      }
+      std::sort(faces_.begin(), faces_.end());
+    }
+    /// Whether `after` may replace `before`: a smaller largest angle and no new small angle.
+    bool Acceptable(const Shape& before, const Shape& after) const {
+      return after.maxDeg < before.maxDeg - 1e-9 && after.small <= before.small &&
+             after.minDeg >= std::min(before.minDeg, MinAngleBound());
+    }
+
+    void TranslationRounds(double threshold, int rounds, Result& r) {
+      for (int round = 0; round < rounds; ++round) {
+        Collect(threshold);
+        if (faces_.empty()) return;
+        ++r.rounds;
+        std::size_t moved = 0;
+        for (const auto& [key, fi] : faces_) {
+          const FaceType& f = m_.face[fi];
+          if (f.IsD() || !(MaxAngle(f) > threshold || (threshold == 90.0 && MaxAngle(f) >= 90.0))) continue;
+          // The vertex at the largest angle: opposite the longest edge.
+          int corner = 0;
+          double longest = -1;
+          for (int k = 0; k < 3; ++k) {
+            const double l = (P(f.cV((k + 1) % 3)) - P(f.cV((k + 2) % 3))).SquaredNorm();
+            if (l > longest) longest = l, corner = k;
+          }
+          if (Translate(VIndex(f.cV(corner)))) ++r.moves, ++moved;
+        }
+        if (moved == 0) return;
+      }
+    }
+
+    Shape StarShape(const VertexType* v, const Point& q) const {
+      Shape s;
+      for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(v)); !it.End(); ++it)
+        s.Add(q, P(it.F()->cV((it.I() + 1) % 3)), P(it.F()->cV((it.I() + 2) % 3)), MinAngleBound());
+      return s;
+    }
+
+    /// Moves vertex vi to the best sample of its feasible disc, when that lowers the largest angle
+    /// of its star without a new small angle.
+    bool Translate(std::size_t vi) {
+      VertexType& v = m_.vert[vi];
+      if (v.IsD() || v.VFp() == nullptr || ops_.IsLocked(v) || ops_.IsBoundaryVertex(v)) return false;
+      const Point p0 = P(&v);
+      Point n(0, 0, 0);
+      double shortest = std::numeric_limits<double>::infinity();
+      for (vcg::face::VFIterator<FaceType> it(&v); !it.End(); ++it) {
+        const Point a = P(it.F()->cV((it.I() + 1) % 3)), b = P(it.F()->cV((it.I() + 2) % 3));
+        n += (a - p0) ^ (b - p0);
+        shortest = std::min(shortest, (a - p0).Norm());
+      }
+      if (!(n.Norm() > 0) || !(shortest > 0)) return false;
+      n.Normalize();
+      Point e1 = std::fabs(n[0]) < 0.9 ? Point(1, 0, 0) ^ n : Point(0, 1, 0) ^ n;
+      e1.Normalize();
+      const Point e2 = n ^ e1;
+      const Shape before = StarShape(&v, p0);
+      const int foot = ops_.Footpoint(v);
+      candidates_.clear();
+      for (int ri = 1; ri <= params_.discRings; ++ri) {
+        const double radius = params_.discRadiusFactor * shortest * ri / params_.discRings;
+        for (int d = 0; d < params_.discDirections; ++d) {
+          const double t = 2.0 * kPi * d / params_.discDirections;
+          const SurfaceProjection proj =
+              ref_.Project(p0 + (e1 * std::cos(t) + e2 * std::sin(t)) * radius, foot, scratch_);
+          if (!proj.ok()) continue;
+          const Shape s = StarShape(&v, proj.point);
+          if (Acceptable(before, s)) candidates_.push_back({s, proj.point, proj.face});
+        }
+      }
+      std::stable_sort(candidates_.begin(), candidates_.end(),
+                       [](const Candidate& x, const Candidate& y) { return x.shape.BetterThan(y.shape); });
+      for (std::size_t i = 0; i < candidates_.size() && i < 4; ++i)
+        if (ops_.MoveVertexTo(&v, candidates_[i].point, candidates_[i].foot)) return true;
+      return false;
+    }
+
+    /// Index of the longest edge of f, skipping edge `skip` (-1: none).
+    static int LongestEdge(const FaceType& f, int skip) {
+      int best = -1;
+      double longest = -1;
+      for (int e = 0; e < 3; ++e) {
+        if (e == skip) continue;
+        const double l = (P(f.cV(e)) - P(f.cV((e + 1) % 3))).SquaredNorm();
+        if (l > longest) longest = l, best = e;
+      }
+      return best;
+    }
+
+    static Point Normal(const FaceType& f) {
+      Point n = (P(f.cV(1)) - P(f.cV(0))) ^ (P(f.cV(2)) - P(f.cV(0)));
+      const double len = n.Norm();
+      return len > 0 ? n / len : Point(0, 0, 0);
+    }
+
+    /// Pentagon point insertion around obtuse face fi (see the file comment).
+    bool InsertInPentagon(std::size_t fi) {
+      FaceType& f = m_.face[fi];
+      const int z = LongestEdge(f, -1);
+      FacePointer g = f.FFp(z);
+      if (g == &f) return false;
+      int e2 = LongestEdge(*g, -1);
+      if (g->FFp(e2) == &f) e2 = LongestEdge(*g, f.FFi(z));
+      FacePointer h = g->FFp(e2);
+      if (h == g || h == &f) return false;
+      const Point nf = Normal(f), ng = Normal(*g), nh = Normal(*h);
+      const double cosLimit = std::cos(params_.pentagonNormalDeg * kPi / 180.0);
+      if (nf * ng < cosLimit || ng * nh < cosLimit || nf * nh < cosLimit) return false;
+      region_ = {&f, g, h};
+      if (!ops_.DiskBoundary(region_, loop_, interior_) || loop_.size() != 5 || !interior_.empty())
+        return false;
+      Shape before;
+      for (const FacePointer r : region_) before.Add(P(r->cV(0)), P(r->cV(1)), P(r->cV(2)), MinAngleBound());
+      std::array<Point, 5> q;
+      Point centroid(0, 0, 0);
+      for (int i = 0; i < 5; ++i) centroid += (q[i] = P(loop_[i]));
+      centroid /= 5.0;
+      Point n = nf + ng + nh;
+      n.Normalize();
+      Point e1 = q[0] - centroid;
+      e1 -= n * (e1 * n);
+      if (!(e1.Norm() > 0)) return false;
+      e1.Normalize();
+      const Point e2d = n ^ e1;
+      // The pentagon in its mean plane, for the inside test and the sampling box.
+      std::array<std::pair<double, double>, 5> poly;
+      double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+      for (int i = 0; i < 5; ++i) {
+        const Point d = q[i] - centroid;
+        poly[i] = {d * e1, d * e2d};
+        x0 = std::min(x0, poly[i].first), x1 = std::max(x1, poly[i].first);
+        y0 = std::min(y0, poly[i].second), y1 = std::max(y1, poly[i].second);
+      }
+      auto inside = [&](double x, double y) {
+        // Strictly inside a counter-clockwise polygon (the loop follows the faces' orientation).
+        for (int i = 0; i < 5; ++i) {
+          const auto [ax, ay] = poly[i];
+          const auto [bx, by] = poly[(i + 1) % 5];
+          if ((bx - ax) * (y - ay) - (by - ay) * (x - ax) <= 0) return false;
+        }
+        return true;
+      };
+      auto fanShape = [&](const Point& p) {
+        Shape s;
+        for (int i = 0; i < 5; ++i) s.Add(q[i], q[(i + 1) % 5], p, MinAngleBound());
+        return s;
+      };
+      bool found = false;
+      Shape best;
+      Point bestPoint;
+      const int N = params_.pentagonSamples;
+      for (int j = 0; j <= N; ++j)
+        for (int i = 0; i <= N; ++i) {
+          const double x = x0 + (x1 - x0) * (i + 0.5 * (j % 2)) / (N + 0.5), y = y0 + (y1 - y0) * j / N;
+          if (!inside(x, y)) continue;
+          const Point p = centroid + e1 * x + e2d * y;
+          const Shape s = fanShape(p);
+          if (!found || s.small < best.small || (s.small == best.small && s.BetterThan(best)))
+            found = true, best = s, bestPoint = p;
+        }
+      if (!found || !Acceptable(before, best)) return false;
+      // Project as ReplaceDisk will (near the footpoint of the closest loop vertex) and check again.
+      int nearest = 0;
+      for (int i = 1; i < 5; ++i)
+        if ((q[i] - bestPoint).SquaredNorm() < (q[nearest] - bestPoint).SquaredNorm()) nearest = i;
+      const SurfaceProjection proj = ref_.Project(bestPoint, ops_.Footpoint(*loop_[nearest]), scratch_);
+      if (!proj.ok() || !Acceptable(before, fanShape(proj.point))) return false;
+      const std::vector<std::array<int, 3>> fan{{0, 1, 5}, {1, 2, 5}, {2, 3, 5}, {3, 4, 5}, {4, 0, 5}};
+      return ops_.ReplaceDisk(region_, loop_, {proj.point}, fan);
+    }
+
+    struct Candidate {
+      Shape shape;
+      Point point;
+      int foot;
+    };
+
+    Ops& ops_;
+    MeshType& m_;
+    const Reference& ref_;
+    const Params& params_;
+    typename Reference::Scratch scratch_;
+    std::vector<std::pair<double, std::uint32_t>> faces_;
+    std::vector<Candidate> candidates_;
+    std::vector<FacePointer> region_;
+    std::vector<VertexPointer> loop_, interior_;
+  };
 };
 
 } // namespace molremesh
