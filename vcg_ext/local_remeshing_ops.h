@@ -85,6 +85,10 @@ struct LocalOpsGuards {
   double maxFoldAngleDeg = 120.0;      ///< angle between the normals of two adjacent faces
   double minAreaFactor = 1e-8;         ///< faces with area below factor * L^2 are never created
   bool checkIntersections = true;      ///< refuse edits that would create an intersecting pair
+  /// Also refuse edits that leave more faces with an angle below minAngleDeg (above
+  /// maxAngleDeg) than the faces they replace had: an improving edit may then not spread a bad
+  /// angle over more faces. For stages that promise "no new angle below the guard".
+  bool noMoreBadFaces = false;
   double gridCellFactor = 1.0;         ///< intersection grid cell size, in target edge lengths
 };
 
@@ -351,6 +355,8 @@ private:
     double cosMaxAngle = 1;  ///< cos of the largest angle (min over faces)
     double cosNormal = 1;    ///< cos of the largest deviation from the reference normal
     double cosFold = 1;      ///< cos of the largest angle between adjacent normals
+    int smallFaces = 0; ///< faces with an angle below Guards::minAngleDeg
+    int largeFaces = 0; ///< faces with an angle above Guards::maxAngleDeg
   };
 
   std::size_t VIndex(const VertexType& v) const { return std::size_t(&v - &m_.vert[0]); }
@@ -880,6 +886,8 @@ typename LocalRemeshingOps<MeshType>::RegionMetrics LocalRemeshingOps<MeshType>:
     AngleCosines(a, b, c, cmin, cmax);
     r.cosMinAngle = std::max(r.cosMinAngle, cmin);
     r.cosMaxAngle = std::min(r.cosMaxAngle, cmax);
+    r.smallFaces += cmin > cosMinAngleGuard_;
+    r.largeFaces += cmax < cosMaxAngleGuard_;
     const Point n = FaceNormal(*f);
     const std::array<int, 3> feet{foot_[VIndex(*f->cV(0))], foot_[VIndex(*f->cV(1))],
                                   foot_[VIndex(*f->cV(2))]};
@@ -908,6 +916,8 @@ OpRefusal LocalRemeshingOps<MeshType>::CheckRegion(double maxEdgeLength, const V
     AngleCosines(nf.p[0], nf.p[1], nf.p[2], cmin, cmax);
     nm.cosMinAngle = std::max(nm.cosMinAngle, cmin);
     nm.cosMaxAngle = std::min(nm.cosMaxAngle, cmax);
+    nm.smallFaces += cmin > cosMinAngleGuard_;
+    nm.largeFaces += cmax < cosMaxAngleGuard_;
     const Point s = RefNormalSum(nf.foot);
     const double len = s.Norm();
     nm.cosNormal = std::min(nm.cosNormal, len > 1e-12 ? (nf.n * s) / len : -1.0);
@@ -951,6 +961,11 @@ OpRefusal LocalRemeshingOps<MeshType>::CheckRegion(double maxEdgeLength, const V
     if (!maxOk && !(nm.cosMaxAngle > om.cosMaxAngle)) return OpRefusal::MaxAngle;
     if (!normalOk && !(nm.cosNormal >= om.cosNormal)) return OpRefusal::Normal;
     if (!foldOk && !(nm.cosFold >= om.cosFold)) return OpRefusal::Fold;
+  }
+  if (guards_.noMoreBadFaces && (!minOk || !maxOk)) {
+    const RegionMetrics om = OldMetrics();
+    if (nm.smallFaces > om.smallFaces) return OpRefusal::MinAngle;
+    if (nm.largeFaces > om.largeFaces) return OpRefusal::MaxAngle;
   }
   if (guards_.checkIntersections && NewFacesIntersect()) return OpRefusal::Intersection;
   return OpRefusal::None;
