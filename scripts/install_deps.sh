@@ -3,7 +3,8 @@
 # Safe to run again: apt skips what is already there. Needs root (or sudo).
 # usage: install_deps.sh [--benchmarks] [--pictures]
 #   --benchmarks adds CGAL, the benchmark-only baseline;
-#   --pictures adds ImageMagick, for scripts/make_pictures.sh (README screenshots of the MeshLab GUI).
+#   --pictures adds ImageMagick and xdotool, for scripts/make_pictures.sh (README screenshots of the
+#              MeshLab GUI).
 set -euo pipefail
 
 packages=(
@@ -18,7 +19,7 @@ packages=(
 for option in "$@"; do
   case "$option" in
   --benchmarks) packages+=(libcgal-dev) ;;
-  --pictures) packages+=(imagemagick) ;;
+  --pictures) packages+=(imagemagick xdotool) ;;
   *) echo "install_deps: unknown option '$option' (use --benchmarks, --pictures)" >&2; exit 1 ;;
   esac
 done

@@ -1,0 +1,153 @@
+#!/usr/bin/env bash
+# Regenerates the README pictures in docs/images/: two shared meshes before and after remeshing,
+# colored by `molremesh color`, shown in Debian's real MeshLab GUI under Xvfb and captured with
+# ImageMagick's `import -window root`.
+#
+# usage: scripts/make_pictures.sh [BUILD_DIR]          (default BUILD_DIR: build)
+# environment:
+#   STAGES   stages for `molremesh remesh --stages` (default: empty = the full pipeline)
+#   MESHES   names under ../shared/data/meshes, without .ply
+#            (default: lysozyme_Lys1_msms ubiquitin_1UBQ_edtsurf_mc)
+#   DATA_DIR folder of the shared meshes (default: ../shared/data/meshes beside the repository)
+#   OUT_DIR  where the PNGs go (default: docs/images)
+#   ZOOM     mouse-wheel steps into the default MeshLab view (default: 2)
+#   WIDTH    width of the saved PNGs in pixels (default: 640)
+#
+# For each mesh and for its input and remeshed output, two pictures:
+#   <mesh>_<input|remeshed>_faces.png     per-face color: obtuse red, angle < 30 deg blue, both
+#                                         magenta, others gray (flat shading)
+#   <mesh>_<input|remeshed>_vertices.png  per-vertex color: irregular interior vertices (valence not
+#                                         5, 6 or 7) red, others gray
+# MeshLab opens a generated .mlp project whose RenderingOption selects the color mode, the
+# layer dialog, trackball and info panel are hidden with xdotool, and MeshLab is closed again.
+set -euo pipefail
+
+# Inside the virtual display (the script calls itself through xvfb-run): capture one project.
+if [ "${1:-}" = "--capture" ]; then
+  project=$2 png=$3 zoom=$4
+  meshlab "$project" >"$png.meshlab.log" 2>&1 &
+  pid=$!
+  win=
+  for _ in $(seq 1 120); do
+    win=$(xdotool search --onlyvisible --name '^MeshLab ' 2>/dev/null | head -1 || true)
+    [ -n "$win" ] && break
+    kill -0 "$pid" 2>/dev/null || { echo "make_pictures: meshlab exited early" >&2; cat "$png.meshlab.log" >&2; exit 1; }
+    sleep 0.5
+  done
+  [ -n "$win" ] || { echo "make_pictures: no MeshLab window after 60 s" >&2; kill "$pid"; exit 1; }
+  # Wait until the mesh is loaded (MeshLab logs it), then, as there is no window manager under
+  # Xvfb, place and size the main window ourselves until it keeps that size.
+  for _ in $(seq 1 120); do
+    grep -q 'All files opened\|Opened mesh' "$png.meshlab.log" && break
+    sleep 0.5
+  done
+  stable=0
+  for _ in $(seq 1 40); do
+    xdotool windowmove "$win" 0 0 windowsize "$win" 1280 960 2>/dev/null || true
+    sleep 0.5
+    if xdotool getwindowgeometry "$win" 2>/dev/null | grep -q 'Geometry: 1280x960'; then
+      stable=$((stable + 1))
+      [ "$stable" -ge 3 ] && break
+    else
+      stable=0
+    fi
+  done
+  [ "$stable" -ge 3 ] || { echo "make_pictures: could not size the MeshLab window" >&2; kill "$pid"; exit 1; }
+  sleep 1
+  xdotool windowfocus --sync "$win" 2>/dev/null || true
+  xdotool key --window "$win" ctrl+l # hide the layer dialog
+  sleep 0.3
+  xdotool key --window "$win" shift+h # hide the trackball
+  sleep 0.3
+  xdotool key alt+v p # View > Show Info Panel (off)
+  sleep 0.3
+  xdotool mousemove 640 498
+  for _ in $(seq 1 "$zoom"); do
+    xdotool click 5 # wheel: zoom in
+    sleep 0.2
+  done
+  xdotool mousemove 1279 959
+  sleep 2
+  import -window root "$png"
+  xdotool key ctrl+q 2>/dev/null || true # File > Exit (the window may be gone before the key up)
+  for _ in $(seq 1 20); do
+    kill -0 "$pid" 2>/dev/null || break
+    sleep 0.5
+  done
+  kill "$pid" 2>/dev/null || true
+  wait "$pid" 2>/dev/null || true
+  exit 0
+fi
+
+repo=$(cd "$(dirname "$0")/.." && pwd)
+build=${1:-${BUILD_DIR:-$repo/build}}
+cli=$build/cli/molremesh
+data=${DATA_DIR:-$repo/../shared/data/meshes}
+out=${OUT_DIR:-$repo/docs/images}
+stages=${STAGES-}
+zoom=${ZOOM:-2}
+width=${WIDTH:-640}
+read -r -a meshes <<<"${MESHES:-lysozyme_Lys1_msms ubiquitin_1UBQ_edtsurf_mc}"
+
+for tool in meshlab xvfb-run xdotool import convert; do
+  command -v "$tool" >/dev/null || {
+    echo "make_pictures: '$tool' not found; install with: bash scripts/install_deps.sh --pictures" >&2
+    exit 1
+  }
+done
+[ -x "$cli" ] || { echo "make_pictures: $cli not built (cmake --build $build --target molremesh)" >&2; exit 1; }
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+mkdir -p "$out"
+
+# MeshLab's serialized MLRenderingData (see meshlabdocumentxml.cpp, MLPerViewGLOptions::serialize):
+# 4 primitive bits (solid, wire triangles, wire edges, points), 9 attribute bits for each of points,
+# wire edges, wire triangles, solid (position, vertex normal, face normal, vertex color, face
+# color, vertex texture, wedge texture, 2 internal), then 32 view options (visible, single-side
+# lighting, selection, fixed colors of box and wire only, wire unshaded).
+glopts=10000000000100011010100000001000
+faces_mode=1000$(printf '0%.0s' {1..27})101010000$glopts    # solid, flat, per-face color
+vertices_mode=1000$(printf '0%.0s' {1..27})101100000$glopts # solid, flat, per-vertex color
+
+capture() { # PLY MODE PNG
+  local ply=$1 mode=$2 png=$3 project
+  project=$work/$(basename "$png" .png).mlp
+  cat >"$project" <<MLP
+<!DOCTYPE MeshLabDocument>
+<MeshLabProject>
+ <MeshGroup>
+  <MLMesh label="$(basename "$ply" .ply)" filename="$(basename "$ply")" visible="1">
+   <MLMatrix44>
+1 0 0 0 
+0 1 0 0 
+0 0 1 0 
+0 0 0 1 
+</MLMatrix44>
+   <RenderingOption pointSize="3" wireWidth="1" boxColor="234 234 234 255" pointColor="131 149 69 255" wireColor="64 64 64 255" solidColor="192 192 192 255">$mode</RenderingOption>
+  </MLMesh>
+ </MeshGroup>
+ <RasterGroup/>
+</MeshLabProject>
+MLP
+  xvfb-run -a -s "-screen 0 1280x960x24" bash "$0" --capture "$project" "$work/raw.png" "$zoom"
+  # The 3D view is the window below the menu and tool bars (y 70) above the status bar (34 px);
+  # keep its middle 1000 px, where the mesh is centered.
+  convert "$work/raw.png" -crop 1000x850+140+72 +repage -resize "${width}x" -strip \
+    -define png:compression-level=9 "$png"
+  echo "make_pictures: $png ($(du -k "$png" | cut -f1) KB)"
+}
+
+for mesh in "${meshes[@]}"; do
+  input=$data/$mesh.ply
+  [ -f "$input" ] || { echo "make_pictures: $input not found" >&2; exit 1; }
+  remeshed=$work/${mesh}_remeshed_raw.ply
+  echo "make_pictures: molremesh remesh $mesh.ply (stages: ${stages:-all})"
+  "$cli" remesh --quiet "$input" "$remeshed" ${stages:+--stages "$stages"} >"$work/$mesh.remesh.txt"
+  "$cli" color "$input" "$work/${mesh}_input.ply" >/dev/null
+  "$cli" color "$remeshed" "$work/${mesh}_remeshed.ply" >/dev/null
+  for state in input remeshed; do
+    capture "$work/${mesh}_$state.ply" "$faces_mode" "$out/${mesh}_${state}_faces.png"
+    capture "$work/${mesh}_$state.ply" "$vertices_mode" "$out/${mesh}_${state}_vertices.png"
+  done
+done
