@@ -80,6 +80,11 @@ struct RemeshOptions {
   int threads = 0;
   int cvtIterations = 42;
   int patches = 0;
+  double minAngle = 30;
+  double maxAngle = 120;
+  std::vector<double> obtuseThresholds{110, 100, 90};
+  int translationIterations = 20;
+  double areaFactor = 9;
   std::string jsonPath;
   bool quiet = false;
 };
@@ -97,6 +102,11 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.threads = options.threads;
   params.cvt.iterations = options.cvtIterations;
   params.segment.patchCount = options.patches;
+  params.valence.minAngleDeg = params.small.minAngleDeg = params.obtuse.minAngleDeg = options.minAngle;
+  params.valence.maxAngleDeg = params.small.maxAngleDeg = options.maxAngle;
+  params.valence.areaFactor = options.areaFactor;
+  params.obtuse.thresholdsDeg = options.obtuseThresholds;
+  params.obtuse.iterationsPerThreshold = options.translationIterations;
   // The output format must be writable before hours of work are spent.
   if (molremesh::FormatFromPath(output) == molremesh::MeshFormat::Unknown)
     throw InputError("cannot write '" + output + "': unknown format (use .ply, .off, .obj or .stl)");
@@ -121,7 +131,10 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   for (const auto& stage : result.stages) std::cout << ' ' << stage.name << '=' << stage.seconds;
   std::cout << " total=" << result.seconds << '\n';
   for (const auto& stage : result.stages)
-    if (!stage.summary.empty()) std::cout << "-- " << stage.name << ":\n" << stage.summary;
+    if (!stage.summary.empty()) {
+      std::cout << "-- " << stage.name << ":\n" << stage.summary;
+      if (stage.summary.back() != '\n') std::cout << '\n';
+    }
 
   if (!options.jsonPath.empty()) {
     nlohmann::json j;
@@ -189,6 +202,29 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(0, 10000));
   remesh->add_option("--patches", remeshOptions.patches, "Patches of the segmentation, 0 = automatic")
       ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  remesh->add_option("--min-angle", remeshOptions.minAngle, "Min angle (deg): no edit creates one below it")
+      ->default_val(30.0)
+      ->check(CLI::Range(0.0, 59.0));
+  remesh
+      ->add_option("--max-angle", remeshOptions.maxAngle,
+                   "Max angle (deg) of valence optimization and small-angle elimination")
+      ->default_val(120.0)
+      ->check(CLI::Range(61.0, 180.0));
+  remesh
+      ->add_option("--obtuse-thresholds", remeshOptions.obtuseThresholds,
+                   "Max-angle thresholds (deg) of obtuse reduction, in order")
+      ->default_str("110 100 90")
+      ->check(CLI::Range(60.0, 180.0));
+  remesh
+      ->add_option("--translation-iterations", remeshOptions.translationIterations,
+                   "Vertex translation rounds per obtuse threshold")
+      ->default_val(20)
+      ->check(CLI::Range(0, 10000));
+  remesh
+      ->add_option("--area-factor", remeshOptions.areaFactor,
+                   "Valence optimization: a hole grows while its area is below this x the mean face area")
+      ->default_val(9.0)
       ->check(CLI::NonNegativeNumber);
   remesh->add_option("--json", remeshOptions.jsonPath,
                      "Also write the per-stage figures as JSON to this file");

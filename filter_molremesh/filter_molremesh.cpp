@@ -15,6 +15,7 @@
 
 namespace {
 const char* const kPluginName = "FilterMolRemesh";
+using Pipeline = molremesh::RemeshPipeline<molremesh::MeshD>;
 
 /// Logs a multi-line text one line at a time: MeshLab's log shows one entry per call.
 template <class Logger>
@@ -25,9 +26,77 @@ void LogLines(Logger&& log, const std::string& text) {
 }
 } // namespace
 
+namespace {
+void AddMinAngleParameter(RichParameterList& parameters) {
+  parameters.addParam(
+      RichFloat("minAngle", 30.f, "Min angle (deg)",
+                "No edit leaves more faces with an angle below this than it removed; the small-angle "
+                "stage removes every angle below it."));
+}
+void AddCommonParameters(RichParameterList& parameters) {
+  parameters.addParam(
+      RichFloat("targetLength", 0.f, "Target edge length",
+                "Edge length L that scales the tolerances; 0 = the mean edge length of the mesh."));
+  parameters.addParam(RichInt("threads", 0, "Threads",
+                              "Worker threads; 0 = all cores. The result does not "
+                              "depend on it."));
+}
+void AddValenceParameters(RichParameterList& parameters) {
+  const molremesh::ValenceOptimization<molremesh::MeshD>::Params defaults;
+  AddMinAngleParameter(parameters);
+  parameters.addParam(RichFloat("maxAngle", float(defaults.maxAngleDeg), "Max angle (deg)",
+                                "No edit leaves more faces with an angle above this than it removed."));
+  parameters.addParam(
+      RichFloat("areaFactor", float(defaults.areaFactor), "Area factor",
+                "Phase 2 grows a hole while its area stays below this times the mean triangle "
+                "area (9 in Khan et al. 2020)."));
+  parameters.addParam(
+      RichInt("rounds", defaults.rounds, "Rounds",
+              "Repetitions of flips/collapses and removal/refilling (stops early when nothing "
+              "changes)."));
+}
+void AddSmallAngleParameters(RichParameterList& parameters) {
+  const molremesh::SmallAngleElimination<molremesh::MeshD>::Params defaults;
+  AddMinAngleParameter(parameters);
+  parameters.addParam(RichFloat("collapseAngle", float(defaults.collapseAngleDeg), "Collapse angle (deg)",
+                                "Triangles with an angle below this get the edge opposite it collapsed."));
+  parameters.addParam(RichFloat("maxAngle", float(defaults.maxAngleDeg), "Max angle (deg)",
+                                "Moves and refills never leave more faces with an angle above this."));
+  parameters.addParam(RichInt("smallIterations", defaults.maxIterations, "Iterations (cap)",
+                              "Rounds of collapse, flip, translation and refilling at most."));
+  parameters.addParam(RichBool("deleteAndRefill", defaults.deleteAndRefill, "Delete and refill",
+                               "Delete vertices that keep a small angle and retriangulate their hole."));
+}
+void AddObtuseThresholds(RichParameterList& parameters) {
+  const molremesh::ObtuseReduction<molremesh::MeshD>::Params defaults;
+  const char* names[3] = {"obtuseThreshold1", "obtuseThreshold2", "obtuseThreshold3"};
+  for (int i = 0; i < 3; ++i)
+    parameters.addParam(
+        RichFloat(names[i], float(defaults.thresholdsDeg[std::size_t(i)]),
+                  QString("Max-angle threshold %1 (deg)").arg(i + 1),
+                  "Vertex translation runs for each threshold in turn (110, 100, 90 in Khan et "
+                  "al. 2020); 180 skips one."));
+  parameters.addParam(RichInt("translationIterations", defaults.iterationsPerThreshold,
+                              "Translation iterations",
+                              "Vertex translation rounds per threshold (20 in Khan et al. 2020)."));
+}
+void AddObtuseParameters(RichParameterList& parameters) {
+  const molremesh::ObtuseReduction<molremesh::MeshD>::Params defaults;
+  AddMinAngleParameter(parameters);
+  AddObtuseThresholds(parameters);
+  parameters.addParam(
+      RichBool("pentagonInsertion", defaults.pentagonInsertion, "Pentagon point insertion",
+               "After the translations, refill pentagons around obtuse triangles with one vertex."));
+  parameters.addParam(RichFloat("pentagonNormalAngle", float(defaults.pentagonNormalDeg),
+                                "Pentagon normal agreement (deg)",
+                                "The three triangles of a pentagon must have normals within this angle."));
+}
+} // namespace
+
 FilterMolRemeshPlugin::FilterMolRemeshPlugin() {
   typeList << FP_QUALITY_REPORT << FP_COLOR_BAD_ELEMENTS << FP_CLEAN_RAW_MESH << FP_CVT_INITIALIZATION
-           << FP_RANDOM_SEGMENTATION << FP_PATCHWISE_RAR;
+           << FP_RANDOM_SEGMENTATION << FP_PATCHWISE_RAR << FP_VALENCE_OPTIMIZATION << FP_REMOVE_SMALL_ANGLES
+           << FP_REDUCE_OBTUSE << FP_LOCAL_SMOOTHING << FP_FULL_PIPELINE;
   for (FilterIDType id : types()) actionList << new QAction(filterName(id), this);
 }
 
@@ -49,6 +118,16 @@ QString FilterMolRemeshPlugin::filterName(FilterIDType filter) const {
     return "Molecular Remesh: Random Segmentation";
   case FP_PATCHWISE_RAR:
     return "Molecular Remesh: Patch-wise Adaptive Remeshing";
+  case FP_VALENCE_OPTIMIZATION:
+    return "Molecular Remesh: Valence Optimization";
+  case FP_REMOVE_SMALL_ANGLES:
+    return "Molecular Remesh: Remove Small Angles";
+  case FP_REDUCE_OBTUSE:
+    return "Molecular Remesh: Reduce Obtuse Triangles";
+  case FP_LOCAL_SMOOTHING:
+    return "Molecular Remesh: Local Smoothing";
+  case FP_FULL_PIPELINE:
+    return "Molecular Remesh: Full Pipeline";
   }
   return "Molecular Remesh: unknown filter";
 }
@@ -92,11 +171,42 @@ QString FilterMolRemeshPlugin::filterInfo(FilterIDType filter) const {
            "in the per-face attribute 'molremesh_patch'. Geometry is not changed.";
   case FP_PATCHWISE_RAR:
     return "Stage 3 of Khan et al. 2020: random segmentation (same seed and patch count as the Random "
-           "Segmentation filter give the same patches), then each patch remeshed on its own, in parallel, with "
-           "real-time adaptive remeshing (Dunyach et al. 2013: curvature-adapted target length, split > 4/3 L, "
-           "collapse < 4/5 L, valence flips, tangential relaxation, projection onto the input) with its border "
+           "Segmentation filter give the same patches), then each patch remeshed on its own, in parallel, "
+           "with "
+           "real-time adaptive remeshing (Dunyach et al. 2013: curvature-adapted target length, split > 4/3 "
+           "L, "
+           "collapse < 4/5 L, valence flips, tangential relaxation, projection onto the input) with its "
+           "border "
            "locked; then the strip around the borders is remeshed. Every edit is guarded: no fold, no "
            "self-intersection, no new small angle. Needs a clean 2-manifold input.";
+  case FP_VALENCE_OPTIMIZATION:
+    return "Stage 2 of Khan et al. 2020: makes vertices valence 5, 6 or 7. Guarded edge flips and collapses "
+           "that lower the valence deviation, then two-phase removal of irregular vertices (their star, then "
+           "irregular vertices on the hole's rim while the hole stays below the area factor times the mean "
+           "triangle area) and refilling with 0, 1 or 2 new vertices placed in the feasible region. No edit "
+           "leaves more faces with an angle below the min angle (or above the max angle) than it removed. "
+           "Needs a clean 2-manifold input (run Clean Raw Mesh and CVT Initialization first).";
+  case FP_REMOVE_SMALL_ANGLES:
+    return "Stage 4 of Khan et al. 2020: removes angles below the min angle: collapses of short edges "
+           "opposite angles below the collapse angle, flips, constrained vertex translation (Laplacian "
+           "position, else nearby positions), deletion and refilling of vertices that keep a small angle; "
+           "repeated up to the iteration cap. Every edit is guarded (no fold, no self-intersection, no new "
+           "bad angle). Needs a clean 2-manifold input.";
+  case FP_REDUCE_OBTUSE:
+    return "Stage 5 of Khan et al. 2020: translation of the vertex at each obtuse angle inside a feasible "
+           "disc (projected onto the surface) for the max-angle thresholds in turn, then pentagon point "
+           "insertion (obtuse triangle + two neighbours across their longest edges, refilled with one "
+           "vertex in the feasible region). No edit creates an angle below the min angle. Needs a clean "
+           "2-manifold input.";
+  case FP_LOCAL_SMOOTHING:
+    return "Stage 6 of Khan et al. 2020: Laplacian translation and local remeshing of the triangles that are "
+           "still obtuse or have a small angle, and their neighbours, accepted only when the worst angle "
+           "improves and no small angle appears. Needs a clean 2-manifold input.";
+  case FP_FULL_PIPELINE:
+    return "All of molecular remeshing in the order of Khan et al. 2020: clean raw mesh, CVT initialization, "
+           "valence optimization, random segmentation and patch-wise adaptive remeshing, small-angle "
+           "elimination, obtuse reduction, local smoothing. Logs the quality table before, after and per "
+           "stage with its time. Transactional: if a stage fails, the layer is left as it was.";
   }
   return QString();
 }
@@ -129,6 +239,11 @@ int FilterMolRemeshPlugin::postCondition(QAction* action) const {
   case FP_CLEAN_RAW_MESH:
   case FP_CVT_INITIALIZATION:
   case FP_PATCHWISE_RAR:
+  case FP_VALENCE_OPTIMIZATION:
+  case FP_REMOVE_SMALL_ANGLES:
+  case FP_REDUCE_OBTUSE:
+  case FP_LOCAL_SMOOTHING:
+  case FP_FULL_PIPELINE:
     return MeshModel::MM_ALL;
   }
   return MeshModel::MM_NONE;
@@ -185,17 +300,63 @@ void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel&, RichPa
     parameters.addParam(RichInt("seed", 1, "Seed", "Random seed of the segmentation."));
     parameters.addParam(RichInt("rarIterations", defaults.rar.iterations, "RAR iterations",
                                 "Split/collapse/flip/relax iterations per patch."));
-    parameters.addParam(RichFloat("targetLength", 0.f, "Target edge length",
-                                  "Base target edge length L0 in mesh units; 0 = the mean edge length of the input."));
-    parameters.addParam(RichFloat("approximationTolerance", float(defaults.rar.approximationTolerance),
-                                  "Approximation tolerance (x L0)",
-                                  "Allowed sagitta of an edge over the curved surface; smaller = finer where curved."));
+    parameters.addParam(
+        RichFloat("targetLength", 0.f, "Target edge length",
+                  "Base target edge length L0 in mesh units; 0 = the mean edge length of the input."));
+    parameters.addParam(
+        RichFloat("approximationTolerance", float(defaults.rar.approximationTolerance),
+                  "Approximation tolerance (x L0)",
+                  "Allowed sagitta of an edge over the curved surface; smaller = finer where curved."));
     parameters.addParam(RichFloat("minLengthFactor", float(defaults.rar.minLengthFactor), "Min length (x L0)",
                                   "Smallest adaptive target length, relative to L0."));
     parameters.addParam(RichFloat("maxLengthFactor", float(defaults.rar.maxLengthFactor), "Max length (x L0)",
                                   "Largest adaptive target length, relative to L0."));
-    parameters.addParam(RichInt("threads", 0, "Threads", "Worker threads; 0 = all cores. The result does not "
-                                                         "depend on it."));
+    parameters.addParam(RichInt("threads", 0, "Threads",
+                                "Worker threads; 0 = all cores. The result does not "
+                                "depend on it."));
+    break;
+  }
+  case FP_VALENCE_OPTIMIZATION:
+    AddValenceParameters(parameters);
+    AddCommonParameters(parameters);
+    break;
+  case FP_REMOVE_SMALL_ANGLES:
+    AddSmallAngleParameters(parameters);
+    AddCommonParameters(parameters);
+    break;
+  case FP_REDUCE_OBTUSE:
+    AddObtuseParameters(parameters);
+    AddCommonParameters(parameters);
+    break;
+  case FP_LOCAL_SMOOTHING:
+    AddMinAngleParameter(parameters);
+    AddCommonParameters(parameters);
+    break;
+  case FP_FULL_PIPELINE: {
+    const Pipeline::Params defaults;
+    parameters.addParam(
+        RichFloat("targetLength", 0.f, "Target edge length",
+                  "Target edge length L in mesh units; 0 = the mean edge length of the cleaned input."));
+    parameters.addParam(
+        RichInt("iterations", defaults.cvt.iterations, "CVT Lloyd iterations",
+                "Lloyd relaxation iterations of the CVT initialization (42 in Khan et al. 2020)."));
+    parameters.addParam(
+        RichInt("patchCount", 0, "Patches", "Number of patches of the segmentation; 0 = automatic."));
+    parameters.addParam(
+        RichInt("seed", 1, "Seed", "Seed of every random choice: same mesh and seed, same result."));
+    AddMinAngleParameter(parameters);
+    parameters.addParam(
+        RichFloat("maxAngle", float(defaults.valence.maxAngleDeg), "Max angle (deg)",
+                  "Valence optimization and small-angle elimination never leave more faces with "
+                  "an angle above this."));
+    AddObtuseThresholds(parameters);
+    parameters.addParam(
+        RichFloat("areaFactor", float(defaults.valence.areaFactor), "Valence area factor",
+                  "Phase 2 of valence optimization grows a hole while its area stays below this "
+                  "times the mean triangle area."));
+    parameters.addParam(RichInt("threads", 0, "Threads",
+                                "Worker threads; 0 = all cores. The result does not "
+                                "depend on it."));
     break;
   }
   case FP_RANDOM_SEGMENTATION: {
@@ -236,8 +397,21 @@ bool FilterMolRemeshPlugin::applyFilter(QAction* action, MeshDocument& md,
   case FP_CVT_INITIALIZATION:
     return runStages(*mm, {int(molremesh::PipelineStage::Cvt)}, parameters, cb);
   case FP_PATCHWISE_RAR:
-    return runStages(*mm, {int(molremesh::PipelineStage::Segment), int(molremesh::PipelineStage::Rar)}, parameters,
-                     cb);
+    return runStages(*mm, {int(molremesh::PipelineStage::Segment), int(molremesh::PipelineStage::Rar)},
+                     parameters, cb);
+  case FP_VALENCE_OPTIMIZATION:
+    return runStages(*mm, {int(molremesh::PipelineStage::Valence)}, parameters, cb);
+  case FP_REMOVE_SMALL_ANGLES:
+    return runStages(*mm, {int(molremesh::PipelineStage::Small)}, parameters, cb);
+  case FP_REDUCE_OBTUSE:
+    return runStages(*mm, {int(molremesh::PipelineStage::Obtuse)}, parameters, cb);
+  case FP_LOCAL_SMOOTHING:
+    return runStages(*mm, {int(molremesh::PipelineStage::Smooth)}, parameters, cb);
+  case FP_FULL_PIPELINE: {
+    std::vector<int> all;
+    for (const auto& info : molremesh::PipelineStages()) all.push_back(int(info.stage));
+    return runStages(*mm, all, parameters, cb);
+  }
   }
   return fail("unknown filter");
 }
@@ -291,7 +465,6 @@ bool FilterMolRemeshPlugin::randomSegmentation(MeshModel& mm, const RichParamete
 
 bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& stages,
                                       const RichParameterList& parameters, vcg::CallBackPos* cb) {
-  using Pipeline = molremesh::RemeshPipeline<molremesh::MeshD>;
   Pipeline::Params params;
   params.stages.clear();
   for (int stage : stages) params.stages.push_back(molremesh::PipelineStage(stage));
@@ -309,12 +482,51 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
     params.cvt.targetVertexCount = std::size_t(std::max(0, parameters.getInt("targetVertexCount")));
   if (parameters.hasParameter("threads")) params.threads = std::max(0, parameters.getInt("threads"));
   if (parameters.hasParameter("seed")) params.seed = std::uint64_t(parameters.getInt("seed"));
-  if (parameters.hasParameter("patchCount")) params.segment.patchCount = std::max(0, parameters.getInt("patchCount"));
-  if (parameters.hasParameter("rarIterations")) params.rar.rar.iterations = parameters.getInt("rarIterations");
+  if (parameters.hasParameter("patchCount"))
+    params.segment.patchCount = std::max(0, parameters.getInt("patchCount"));
+  if (parameters.hasParameter("rarIterations"))
+    params.rar.rar.iterations = parameters.getInt("rarIterations");
   if (parameters.hasParameter("approximationTolerance"))
     params.rar.rar.approximationTolerance = parameters.getFloat("approximationTolerance");
-  if (parameters.hasParameter("minLengthFactor")) params.rar.rar.minLengthFactor = parameters.getFloat("minLengthFactor");
-  if (parameters.hasParameter("maxLengthFactor")) params.rar.rar.maxLengthFactor = parameters.getFloat("maxLengthFactor");
+  if (parameters.hasParameter("minLengthFactor"))
+    params.rar.rar.minLengthFactor = parameters.getFloat("minLengthFactor");
+  if (parameters.hasParameter("maxLengthFactor"))
+    params.rar.rar.maxLengthFactor = parameters.getFloat("maxLengthFactor");
+  if (parameters.hasParameter("minAngle")) {
+    const double a = parameters.getFloat("minAngle");
+    if (!(a >= 0 && a < 60)) return fail("Min angle must be at least 0 and below 60 degrees");
+    params.valence.minAngleDeg = params.small.minAngleDeg = params.obtuse.minAngleDeg = a;
+  }
+  if (parameters.hasParameter("maxAngle")) {
+    const double a = parameters.getFloat("maxAngle");
+    if (!(a > 60 && a <= 180)) return fail("Max angle must be above 60 and at most 180 degrees");
+    params.valence.maxAngleDeg = params.small.maxAngleDeg = a;
+  }
+  if (parameters.hasParameter("areaFactor")) params.valence.areaFactor = parameters.getFloat("areaFactor");
+  if (parameters.hasParameter("rounds")) params.valence.rounds = parameters.getInt("rounds");
+  if (parameters.hasParameter("collapseAngle"))
+    params.small.collapseAngleDeg = parameters.getFloat("collapseAngle");
+  if (parameters.hasParameter("smallIterations"))
+    params.small.maxIterations = parameters.getInt("smallIterations");
+  if (parameters.hasParameter("deleteAndRefill"))
+    params.small.deleteAndRefill = parameters.getBool("deleteAndRefill");
+  if (parameters.hasParameter("obtuseThreshold1")) {
+    params.obtuse.thresholdsDeg.clear();
+    for (const char* name : {"obtuseThreshold1", "obtuseThreshold2", "obtuseThreshold3"}) {
+      const double t = parameters.getFloat(name);
+      if (!(t >= 60 && t <= 180)) return fail("Max-angle thresholds must be between 60 and 180 degrees");
+      if (t < 180) params.obtuse.thresholdsDeg.push_back(t);
+    }
+  }
+  if (parameters.hasParameter("translationIterations"))
+    params.obtuse.iterationsPerThreshold = parameters.getInt("translationIterations");
+  if (parameters.hasParameter("pentagonInsertion"))
+    params.obtuse.pentagonInsertion = parameters.getBool("pentagonInsertion");
+  if (parameters.hasParameter("pentagonNormalAngle"))
+    params.obtuse.pentagonNormalDeg = parameters.getFloat("pentagonNormalAngle");
+  if (params.valence.areaFactor < 0) return fail("Area factor must be 0 or more");
+  if (params.valence.rounds < 0 || params.small.maxIterations < 0 || params.obtuse.iterationsPerThreshold < 0)
+    return fail("Rounds and iteration counts must be 0 or more");
   if (params.cvt.iterations < 0) return fail("Lloyd iterations must be 0 or more");
   if (params.targetEdgeLength < 0) return fail("Target edge length must be 0 (automatic) or more");
 
@@ -330,6 +542,11 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
     LogLines([this](const std::string& line) { Log(line); }, stage.summary);
   }
   LogLines([this](const std::string& line) { Log(line); }, molremesh::FormatQualityTable(columns));
+  std::ostringstream times;
+  times << "stage times (s):";
+  for (const auto& stage : result.stages) times << ' ' << stage.name << '=' << stage.seconds;
+  times << " total=" << result.seconds;
+  Log(times.str().c_str());
 
   // Success: replace the layer's triangles. Old per-element colors and qualities described the
   // old triangles, so they are dropped with them.
