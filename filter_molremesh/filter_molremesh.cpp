@@ -10,6 +10,7 @@
 
 #include "filter_molremesh.h"
 
+#include <algorithm>
 #include <sstream>
 #include <string>
 
@@ -205,7 +206,9 @@ QString FilterMolRemeshPlugin::filterInfo(FilterIDType filter) const {
   case FP_FULL_PIPELINE:
     return "All of molecular remeshing in the order of Khan et al. 2020: clean raw mesh, CVT initialization, "
            "valence optimization, random segmentation and patch-wise adaptive remeshing, small-angle "
-           "elimination, obtuse reduction, local smoothing. Logs the quality table before, after and per "
+           "elimination, obtuse reduction, local smoothing, and a final valence pass that may not add an "
+           "obtuse "
+           "face (polish, beyond the paper). Logs the quality table before, after and per "
            "stage with its time. Transactional: if a stage fails, the layer is left as it was.";
   }
   return QString();
@@ -495,14 +498,16 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
   if (parameters.hasParameter("minAngle")) {
     const double a = parameters.getFloat("minAngle");
     if (!(a >= 0 && a < 60)) return fail("Min angle must be at least 0 and below 60 degrees");
-    params.valence.minAngleDeg = params.small.minAngleDeg = params.obtuse.minAngleDeg = a;
+    params.valence.minAngleDeg = params.small.minAngleDeg = params.obtuse.minAngleDeg =
+        params.polish.minAngleDeg = a;
   }
   if (parameters.hasParameter("maxAngle")) {
     const double a = parameters.getFloat("maxAngle");
     if (!(a > 60 && a <= 180)) return fail("Max angle must be above 60 and at most 180 degrees");
     params.valence.maxAngleDeg = params.small.maxAngleDeg = a;
   }
-  if (parameters.hasParameter("areaFactor")) params.valence.areaFactor = parameters.getFloat("areaFactor");
+  if (parameters.hasParameter("areaFactor"))
+    params.valence.areaFactor = params.polish.areaFactor = parameters.getFloat("areaFactor");
   if (parameters.hasParameter("rounds")) params.valence.rounds = parameters.getInt("rounds");
   if (parameters.hasParameter("collapseAngle"))
     params.small.collapseAngleDeg = parameters.getFloat("collapseAngle");
@@ -517,6 +522,10 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
       if (!(t >= 60 && t <= 180)) return fail("Max-angle thresholds must be between 60 and 180 degrees");
       if (t < 180) params.obtuse.thresholdsDeg.push_back(t);
     }
+    // The final valence pass keeps the last (lowest) obtuse threshold as its max angle.
+    if (!params.obtuse.thresholdsDeg.empty())
+      params.polish.maxAngleDeg =
+          *std::min_element(params.obtuse.thresholdsDeg.begin(), params.obtuse.thresholdsDeg.end());
   }
   if (parameters.hasParameter("translationIterations"))
     params.obtuse.iterationsPerThreshold = parameters.getInt("translationIterations");

@@ -33,7 +33,7 @@
 namespace molremesh {
 
 /// Pipeline stages, in the order they run.
-enum class PipelineStage { Clean, Cvt, Valence, Segment, Rar, Small, Obtuse, Smooth };
+enum class PipelineStage { Clean, Cvt, Valence, Segment, Rar, Small, Obtuse, Smooth, Polish };
 
 struct PipelineStageInfo {
   PipelineStage stage;
@@ -54,6 +54,9 @@ inline const std::vector<PipelineStageInfo>& PipelineStages() {
       {PipelineStage::Small, "small", "small-angle elimination (every angle below the min angle)"},
       {PipelineStage::Obtuse, "obtuse", "obtuse reduction (vertex translation, pentagon point insertion)"},
       {PipelineStage::Smooth, "smooth", "local smoothing of the triangles still bad"},
+      {PipelineStage::Polish, "polish",
+       "final valence optimization under the obtuse guard (max angle 90): the irregular vertices RAR leaves, "
+       "removed without a new obtuse or small angle (beyond the paper)"},
   };
   return stages;
 }
@@ -135,7 +138,14 @@ public:
     typename SmallAngleElimination<MeshType>::Params small;
     typename ObtuseReduction<MeshType>::Params obtuse;
     typename LocalSmoothing<MeshType>::Params smooth;
+    typename ValenceOptimization<MeshType>::Params polish = PolishDefaults(); ///< valence with max angle 90
   };
+
+  static typename ValenceOptimization<MeshType>::Params PolishDefaults() {
+    typename ValenceOptimization<MeshType>::Params p;
+    p.maxAngleDeg = 90.0; // the last obtuse threshold: no edit may add an obtuse face
+    return p;
+  }
 
   static std::vector<PipelineStage> AllStages() {
     std::vector<PipelineStage> all;
@@ -283,6 +293,15 @@ public:
         if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
         if (const std::string error = RunLocalStage<ObtuseReduction<MeshType>>(
                 m, *reference, params.obtuse, result, params, record.summary);
+            !error.empty())
+          return fail(record, error);
+        break;
+      }
+      case PipelineStage::Polish: {
+        ensureTargetLength();
+        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
+        if (const std::string error = RunLocalStage<ValenceOptimization<MeshType>>(
+                m, *reference, params.polish, result, params, record.summary);
             !error.empty())
           return fail(record, error);
         break;
