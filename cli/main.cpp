@@ -105,6 +105,7 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.segment.patchCount = options.patches;
   params.valence.minAngleDeg = params.small.minAngleDeg = params.obtuse.minAngleDeg =
       params.polish.minAngleDeg = options.minAngle;
+  params.smooth.minAngleDeg = options.minAngle;
   params.valence.maxAngleDeg = params.small.maxAngleDeg = options.maxAngle;
   params.valence.areaFactor = params.polish.areaFactor = options.areaFactor;
   params.obtuse.thresholdsDeg = options.obtuseThresholds;

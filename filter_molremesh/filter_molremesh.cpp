@@ -333,6 +333,9 @@ void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel&, RichPa
     break;
   case FP_LOCAL_SMOOTHING:
     AddMinAngleParameter(parameters);
+    parameters.addParam(RichInt("smoothIterations",
+                                molremesh::LocalSmoothing<molremesh::MeshD>::Params().iterations,
+                                "Iterations (cap)", "Rounds of smoothing at most."));
     AddCommonParameters(parameters);
     break;
   case FP_FULL_PIPELINE: {
@@ -500,6 +503,7 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
     if (!(a >= 0 && a < 60)) return fail("Min angle must be at least 0 and below 60 degrees");
     params.valence.minAngleDeg = params.small.minAngleDeg = params.obtuse.minAngleDeg =
         params.polish.minAngleDeg = a;
+    params.smooth.minAngleDeg = a;
   }
   if (parameters.hasParameter("maxAngle")) {
     const double a = parameters.getFloat("maxAngle");
@@ -527,6 +531,8 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
       params.polish.maxAngleDeg =
           *std::min_element(params.obtuse.thresholdsDeg.begin(), params.obtuse.thresholdsDeg.end());
   }
+  if (parameters.hasParameter("smoothIterations"))
+    params.smooth.iterations = parameters.getInt("smoothIterations");
   if (parameters.hasParameter("translationIterations"))
     params.obtuse.iterationsPerThreshold = parameters.getInt("translationIterations");
   if (parameters.hasParameter("pentagonInsertion"))
