@@ -23,11 +23,9 @@ using namespace molremesh::test;
 namespace {
 const std::string kCli = MOLREMESH_CLI_PATH;
 
-MeshD Load(const std::string& path) {
-  MeshD m;
+void Load(MeshD& m, const std::string& path) {
   std::string error;
-  EXPECT_TRUE(LoadMesh(m, path, error)) << error;
-  return m;
+  ASSERT_TRUE(LoadMesh(m, path, error)) << error;
 }
 
 /// CGAL's row of the recorded baselines for a mesh (empty when not recorded).
@@ -53,18 +51,21 @@ TEST_P(FullPipelineOnMesh, MeetsEveryAcceptanceFigure) {
   const std::string cleaned = (dir / "cleaned.ply").string();
   const std::string json = (dir / "stages.json").string();
 
-  CommandResult r =
-      Run(Quote(kCli) + " remesh --quiet " + Quote(input) + " " + Quote(output) + " --json " + Quote(json));
+  CommandResult r = molremesh::test::Run(Quote(kCli) + " remesh --quiet " + Quote(input) + " " +
+                                         Quote(output) + " --json " + Quote(json));
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
-  r = Run(Quote(kCli) + " remesh --quiet --stages clean " + Quote(input) + " " + Quote(cleaned));
+  r = molremesh::test::Run(Quote(kCli) + " remesh --quiet --stages clean " + Quote(input) + " " +
+                           Quote(cleaned));
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   std::ifstream jsonIn(json);
   const nlohmann::json stages = nlohmann::json::parse(jsonIn);
   const double L = stages["target_edge_length"].get<double>();
   ASSERT_GT(L, 0);
 
-  const MeshD out = Load(output);
-  const MeshD clean = Load(cleaned);
+  MeshD out, clean, raw;
+  Load(out, output);
+  Load(clean, cleaned);
+  Load(raw, input);
   const QualityReport after = MeshQuality<MeshD>::Compute(out, MeshQuality<MeshD>::Params());
   const QualityReport before = MeshQuality<MeshD>::Compute(clean, MeshQuality<MeshD>::Params());
 
@@ -84,7 +85,7 @@ TEST_P(FullPipelineOnMesh, MeetsEveryAcceptanceFigure) {
   ExpectVerticesOnInput(out, clean, 0.1 * L);
 
   // Recorded beside the figures (compare with CGAL's in benchmarks/): symmetric Hausdorff / L.
-  const SymmetricDistance d = SurfaceDistance<MeshD, MeshD>::Symmetric(out, Load(input));
+  const SymmetricDistance d = SurfaceDistance<MeshD, MeshD>::Symmetric(out, raw);
   RecordProperty("hausdorff_over_L", std::to_string(d.hausdorff / L));
   RecordProperty("cgal_hausdorff_over_L", std::to_string(cgal.value("hausdorff_over_L", -1.0)));
   std::cout << name << ": theta [" << after.angleMin << ", " << after.angleMax << "], V567 "
@@ -95,7 +96,7 @@ TEST_P(FullPipelineOnMesh, MeetsEveryAcceptanceFigure) {
   const std::string off = (dir / "remeshed.off").string();
   std::string error;
   ASSERT_TRUE(SaveMesh(out, off, error)) << error;
-  r = Run("timeout 1200 tetgen -pq1.4 -Q " + Quote(off));
+  r = molremesh::test::Run("timeout 1200 tetgen -pq1.4 -Q " + Quote(off));
   EXPECT_EQ(r.exitCode, 0) << r.out << r.err;
   const std::string ele = ReadFile(dir / "remeshed.1.ele");
   ASSERT_FALSE(ele.empty()) << "TetGen wrote no tetrahedra\n" << r.out << r.err;
@@ -108,7 +109,8 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, FullPipelineOnMesh,
                                            "galactose_grasp", "hivprotease_1HPV_edtsurf_mc",
                                            "lysozyme_Lys1_msms", "mtor_4JSV_edtsurf_vcmc",
                                            "ubiquitin_1UBQ_edtsurf_mc", "ubiquitin_1UBQ_jmol",
-                                           "ubiquitin_1UBQ_pymol_ses"));
+                                           "ubiquitin_1UBQ_pymol_ses"),
+                         [](const auto& p) { return std::string(p.param); });
 
 TEST(FullPipeline, SameSeedSameOutputForAnyThreadCount) {
   const std::string input = SharedMesh("lysozyme_Lys1_msms.ply");
@@ -116,8 +118,8 @@ TEST(FullPipeline, SameSeedSameOutputForAnyThreadCount) {
   std::vector<std::string> files;
   for (const char* threads : {"1", "2", "2"}) {
     files.push_back((dir / ("out" + std::to_string(files.size()) + ".ply")).string());
-    const CommandResult r = Run(Quote(kCli) + " remesh --quiet --seed 7 --threads " + threads + " " +
-                                Quote(input) + " " + Quote(files.back()));
+    const CommandResult r = molremesh::test::Run(Quote(kCli) + " remesh --quiet --seed 7 --threads " +
+                                                 threads + " " + Quote(input) + " " + Quote(files.back()));
     ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
   }
   const std::string first = ReadFile(files[0]);
@@ -126,7 +128,10 @@ TEST(FullPipeline, SameSeedSameOutputForAnyThreadCount) {
   EXPECT_EQ(ReadFile(files[2]), first) << "same run twice";
   // Another seed gives another segmentation, so (almost surely) another mesh.
   const std::string other = (dir / "other.ply").string();
-  ASSERT_EQ(Run(Quote(kCli) + " remesh --quiet --seed 8 " + Quote(input) + " " + Quote(other)).exitCode, 0);
+  ASSERT_EQ(
+      molremesh::test::Run(Quote(kCli) + " remesh --quiet --seed 8 " + Quote(input) + " " + Quote(other))
+          .exitCode,
+      0);
   EXPECT_NE(ReadFile(other), first);
   std::filesystem::remove_all(dir);
 }
@@ -143,8 +148,8 @@ TEST(FullPipeline, BadInputsFailClearlyAndWriteNothing) {
     inputs.push_back(Fixture(fixture));
   for (const std::string& input : inputs) {
     const std::string out = (dir / "out.ply").string();
-    const CommandResult r =
-        Run("timeout 120 " + Quote(kCli) + " remesh --quiet " + Quote(input) + " " + Quote(out));
+    const CommandResult r = molremesh::test::Run("timeout 120 " + Quote(kCli) + " remesh --quiet " +
+                                                 Quote(input) + " " + Quote(out));
     EXPECT_EQ(r.exitCode, 2) << input << "\n" << r.err;
     EXPECT_NE(r.err.find("molremesh: error:"), std::string::npos) << input << "\n" << r.err;
     EXPECT_FALSE(std::filesystem::exists(out)) << input;
@@ -156,8 +161,8 @@ TEST(FullPipeline, BadInputsFailClearlyAndWriteNothing) {
          "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
          "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
   const std::string out = (dir / "triangle_out.ply").string();
-  const CommandResult r =
-      Run("timeout 120 " + Quote(kCli) + " remesh --quiet " + Quote(triangle.string()) + " " + Quote(out));
+  const CommandResult r = molremesh::test::Run("timeout 120 " + Quote(kCli) + " remesh --quiet " +
+                                               Quote(triangle.string()) + " " + Quote(out));
   EXPECT_TRUE(r.exitCode == 0 || r.exitCode == 2) << r.exitCode << "\n" << r.err;
   if (r.exitCode == 0) {
     EXPECT_TRUE(std::filesystem::exists(out));
