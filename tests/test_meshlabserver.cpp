@@ -4,6 +4,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <regex>
 
 #include <vcg_ext/bad_element_coloring.h>
@@ -27,8 +31,18 @@ nlohmann::json CliReport(const std::string& mesh) {
   return nlohmann::json::parse(r.out);
 }
 
+// Under load, with several xvfb-run at once (ctest --parallel), Debian's xvfb-run sometimes fails
+// to remove its temporary folder after the command ended and then exits with status 5 instead of
+// the command's status; such a run says nothing about our plugin and is repeated once.
+CommandResult RunServerCommand(const std::string& command) {
+  CommandResult r = Run(command);
+  if (r.exitCode == 5 && r.err.find("problem while cleaning up temporary directory") != std::string::npos)
+    r = Run(command);
+  return r;
+}
+
 CommandResult Server(const std::string& args) {
-  return Run(Quote(kServer) + " " + args);
+  return RunServerCommand(Quote(kServer) + " " + args);
 }
 
 // Meshes small enough to keep the suite quick, covering MSMS slivers, marching-cubes holes and
@@ -123,12 +137,12 @@ TEST(MeshlabServer, CleanThenCvtScriptsMatchTheCliPipeline) {
   const auto dir = TempDir("mls_cvt");
   const std::string viaServer = (dir / "server.ply").string();
   const std::string viaCli = (dir / "cli.ply").string();
-  const CommandResult r = Server("-i " + Quote(input) + " -o " + Quote(viaServer) + " -s " +
-                                 Quote(kScripts + "/clean_raw_mesh.mlx") + " -s " +
-                                 Quote(kScripts + "/cvt_initialization.mlx"));
+  const CommandResult r =
+      Server("-i " + Quote(input) + " -o " + Quote(viaServer) + " -s " +
+             Quote(kScripts + "/clean_raw_mesh.mlx") + " -s " + Quote(kScripts + "/cvt_initialization.mlx"));
   ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
-  const CommandResult cli =
-      molremesh::test::Run(Quote(kCli) + " remesh --quiet --stages clean,cvt " + Quote(input) + " " + Quote(viaCli));
+  const CommandResult cli = molremesh::test::Run(Quote(kCli) + " remesh --quiet --stages clean,cvt " +
+                                                 Quote(input) + " " + Quote(viaCli));
   ASSERT_EQ(cli.exitCode, 0) << cli.err;
 
   const nlohmann::json server = CliReport(viaServer);
@@ -162,4 +176,193 @@ TEST(MeshlabServer, BadInputFailsWithOurMessageAndSavesNothing) {
       std::filesystem::remove_all(dir);
     }
   }
+}
+
+// ------------------------------------------------------------------------------------------------
+// Issue 3 acceptance through meshlabserver: remesh_clean_cvt_rar.mlx (Clean Raw Mesh, CVT
+// Initialization, Patch-wise Adaptive Remeshing = segmentation + RAR) on every shared mesh, checked
+// against the cleaned input and compared with `molremesh remesh --stages clean,cvt,segment,rar`.
+// ------------------------------------------------------------------------------------------------
+namespace {
+const std::vector<std::string> kAllMeshes = {
+    "ache_1MAH_edtsurf_vcmc.ply",  "ache_1MAH_pymol_ses.ply",         "bpti_1bpi_msms.ply",
+    "galactose_grasp.ply",         "hivprotease_1HPV_edtsurf_mc.ply", "lysozyme_Lys1_msms.ply",
+    "mtor_4JSV_edtsurf_vcmc.ply",  "ubiquitin_1UBQ_edtsurf_mc.ply",   "ubiquitin_1UBQ_jmol.ply",
+    "ubiquitin_1UBQ_pymol_ses.ply"};
+
+// (closed, genus) of every component, sorted: the topology a remeshing stage must keep.
+std::vector<std::pair<bool, int>> ComponentTopology(const nlohmann::json& report) {
+  std::vector<std::pair<bool, int>> topology;
+  for (const auto& c : report["component_info"])
+    topology.emplace_back(c["closed"].get<bool>(), c["genus"].is_null() ? -1 : c["genus"].get<int>());
+  std::sort(topology.begin(), topology.end());
+  return topology;
+}
+
+// The sandboxed meshlabserver, bounded in time: no run may hang.
+CommandResult BoundedServer(const std::string& args, int seconds) {
+  return RunServerCommand("timeout -k 10 " + std::to_string(seconds) + " " + Quote(kServer) + " " + args);
+}
+
+std::string Name(const ::testing::TestParamInfo<std::string>& info) {
+  std::string name = info.param.substr(0, info.param.find('.'));
+  for (char& c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return name;
+}
+} // namespace
+
+class MeshlabServerRemesh : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(MeshlabServerRemesh, CleanCvtRarScriptGivesAValidMeshLikeTheCli) {
+  const std::string input = SharedMesh(GetParam());
+  const auto dir = TempDir("mls_remesh");
+  const std::string viaServer = (dir / "server.ply").string();
+  const std::string viaCli = (dir / "cli.ply").string();
+  const std::string cliJson = (dir / "cli.json").string();
+  const std::string logFile = (dir / "log.txt").string();
+
+  const CommandResult r =
+      BoundedServer("-l " + Quote(logFile) + " -i " + Quote(input) + " -o " + Quote(viaServer) + " -s " +
+                        Quote(kScripts + "/remesh_clean_cvt_rar.mlx"),
+                    900);
+  ASSERT_EQ(r.exitCode, 0) << ReadFile(logFile) << r.out << r.err;
+  const CommandResult cli = molremesh::test::Run("timeout -k 10 900 " + Quote(kCli) +
+                                                 " remesh --quiet --stages clean,cvt,segment,rar --json " +
+                                                 Quote(cliJson) + " " + Quote(input) + " " + Quote(viaCli));
+  ASSERT_EQ(cli.exitCode, 0) << cli.err;
+
+  const nlohmann::json stages = nlohmann::json::parse(ReadFile(cliJson));
+  ASSERT_EQ(stages["stages"].size(), 4u);
+  ASSERT_EQ(stages["stages"][0]["name"], "clean");
+  const nlohmann::json& cleaned = stages["stages"][0]["after"];
+  const nlohmann::json& direct = stages["stages"][3]["after"];
+  const nlohmann::json server = CliReport(viaServer);
+
+  // Validity of what meshlabserver saved (a float PLY, measured again in double precision).
+  EXPECT_EQ(server["two_manifold"], true);
+  EXPECT_EQ(server["non_manifold_edges"], 0);
+  EXPECT_EQ(server["non_manifold_vertices"], 0);
+  EXPECT_EQ(server["degenerate_faces"], 0);
+  EXPECT_EQ(server["unreferenced_vertices"], 0);
+  EXPECT_EQ(server["self_intersecting_pairs"], 0);
+  EXPECT_EQ(server["boundary_edges"], cleaned["boundary_edges"]) << "closed components stay closed";
+  EXPECT_EQ(server["components"], cleaned["components"]);
+  EXPECT_EQ(ComponentTopology(server), ComponentTopology(cleaned)) << "each component keeps its genus";
+  const double cleanedVolume = cleaned["volume"].get<double>();
+  EXPECT_NEAR(server["volume"].get<double>(), cleanedVolume, 0.005 * std::abs(cleanedVolume));
+
+  // The CLI's output passes the same checks.
+  EXPECT_EQ(direct["two_manifold"], true);
+  EXPECT_EQ(direct["self_intersecting_pairs"], 0);
+  EXPECT_EQ(ComponentTopology(direct), ComponentTopology(cleaned));
+  EXPECT_NEAR(direct["volume"].get<double>(), cleanedVolume, 0.005 * std::abs(cleanedVolume));
+
+  // Same figures as the CLI up to a tolerance, not bit for bit: each filter is a pipeline of its
+  // own, so the Patch-wise Adaptive Remeshing filter projects onto its input layer (the CVT output)
+  // with that layer's mean edge length as L, where the CLI projects onto the cleaned input with the
+  // cleaned input's L. `molremesh remesh --stages clean,cvt` followed by `--stages segment,rar` on
+  // its output reproduces the meshlabserver output on 1MAH EDTSurf (same faces and V567, θmin within
+  // 1e-5°); on 4JSV the float storage of the layer between filters moves it a little further (6
+  // faces). Clean + CVT alone give the CLI's face count (CleanThenCvtScriptsMatchTheCliPipeline).
+  const double serverAngle = server["angle_min_deg"].get<double>();
+  const double cliAngle = direct["angle_min_deg"].get<double>();
+  const double serverV567 = server["v567_percent"].get<double>();
+  const double cliV567 = direct["v567_percent"].get<double>();
+  std::printf("[ figures  ] %s faces %d/%d  theta_min %.2f/%.2f  theta_max %.2f/%.2f  V567 %.2f/%.2f  "
+              "SI %d/%d  dV %+.3f%%/%+.3f%% (meshlabserver/CLI)\n",
+              GetParam().c_str(), server["faces"].get<int>(), direct["faces"].get<int>(), serverAngle,
+              cliAngle, server["angle_max_deg"].get<double>(), direct["angle_max_deg"].get<double>(),
+              serverV567, cliV567, server["self_intersecting_pairs"].get<int>(),
+              direct["self_intersecting_pairs"].get<int>(),
+              100 * (server["volume"].get<double>() / cleanedVolume - 1),
+              100 * (direct["volume"].get<double>() / cleanedVolume - 1));
+  // Measured (meshlabserver vs CLI): faces within 1.9 %, V567 within 0.13 points, θmin equal within
+  // 0.2° on 8 meshes but 38.2° vs 40.0° on 1MAH EDTSurf and 30.6° vs 40.0° on 4JSV. The bar kept
+  // here: wherever the CLI reaches 30°, meshlabserver does too.
+  if (cliAngle >= 30.0) {
+    EXPECT_GE(serverAngle, 30.0);
+  }
+  EXPECT_GE(serverV567, cliV567 - 0.3);
+  EXPECT_NEAR(server["faces"].get<double>(), direct["faces"].get<double>(),
+              0.03 * direct["faces"].get<double>());
+  std::filesystem::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllSharedMeshes, MeshlabServerRemesh, ::testing::ValuesIn(kAllMeshes), Name);
+
+namespace {
+void WritePly(const std::filesystem::path& path, const std::string& comment, const std::string& vertices,
+              int vertexCount, const std::string& faces, int faceCount) {
+  std::ofstream(path) << "ply\nformat ascii 1.0\ncomment " << comment << "\nelement vertex " << vertexCount
+                      << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << faceCount
+                      << "\nproperty list uchar int vertex_indices\nend_header\n"
+                      << vertices << faces;
+}
+} // namespace
+
+TEST(MeshlabServer, RemeshScriptRefusesBadInputAndSavesNothing) {
+  const auto dir = TempDir("mls_remesh_bad");
+  const auto emptyMesh = dir / "empty_mesh.ply";
+  WritePly(emptyMesh, "no vertices, no faces", "", 0, "", 0);
+  const auto allDegenerate = dir / "all_degenerate.ply";
+  WritePly(allDegenerate, "a zero-area face of collinear vertices and a face with a repeated vertex",
+           "0 0 0\n1 0 0\n2 0 0\n0 1 0\n", 4, "3 0 1 2\n3 0 0 3\n", 2);
+
+  // (input file or "" for no layer at all, text the log must contain)
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"", "no current mesh layer"},
+      {emptyMesh.string(), "empty"},
+      {Fixture("point_cloud.ply"), "point cloud"},
+      {Fixture("nan_vertex.ply"), "NaN"},
+      {allDegenerate.string(), "degenerate"},
+  };
+  for (const auto& [input, message] : cases) {
+    const std::string output = (dir / "out.ply").string();
+    const std::string logFile = (dir / "log.txt").string();
+    std::filesystem::remove(output);
+    std::filesystem::remove(logFile);
+    const CommandResult r =
+        BoundedServer("-l " + Quote(logFile) + (input.empty() ? "" : " -i " + Quote(input)) + " -o " +
+                          Quote(output) + " -s " + Quote(kScripts + "/remesh_clean_cvt_rar.mlx"),
+                      120);
+    const std::string log = ReadFile(logFile) + r.out + r.err;
+    // meshlabserver ends a failed script with exit(-1), i.e. status 255; a crash would be 128 + signal,
+    // a hang 124 (timeout).
+    EXPECT_EQ(r.exitCode, 255) << input << "\n" << log;
+    const bool firstFilterRefused =
+        log.find("Error: Molecular Remesh: Clean Raw Mesh") != std::string::npos ||
+        log.find("Error: stage 'clean' failed") != std::string::npos;
+    EXPECT_TRUE(firstFilterRefused) << input << "\n" << log;
+    EXPECT_NE(log.find(message), std::string::npos) << input << "\n" << log;
+    EXPECT_FALSE(std::filesystem::exists(output)) << "a refused layer must not be saved: " << input;
+  }
+  std::filesystem::remove_all(dir);
+}
+
+TEST(MeshlabServer, RemeshScriptOnASingleTriangleEndsAndKeepsIt) {
+  // A single open triangle is a valid mesh for the filters: nothing to clean (its 3-edge boundary
+  // is an open border, not a crack), CVT and RAR keep its 3 locked boundary vertices. It must end
+  // quickly and either be refused (status 255, nothing saved) or come out as the same triangle.
+  const auto dir = TempDir("mls_remesh_triangle");
+  const auto triangle = dir / "single_triangle.ply";
+  WritePly(triangle, "one right triangle", "0 0 0\n1 0 0\n0 1 0\n", 3, "3 0 1 2\n", 1);
+  const std::string output = (dir / "out.ply").string();
+  const CommandResult r = BoundedServer("-i " + Quote(triangle.string()) + " -o " + Quote(output) + " -s " +
+                                            Quote(kScripts + "/remesh_clean_cvt_rar.mlx"),
+                                        120);
+  ASSERT_TRUE(r.exitCode == 0 || r.exitCode == 255) << "status " << r.exitCode << "\n" << r.out << r.err;
+  if (r.exitCode == 255) {
+    EXPECT_FALSE(std::filesystem::exists(output));
+  } else {
+    MeshD mesh;
+    int mask = 0;
+    ASSERT_EQ(vcg::tri::io::ImporterPLY<MeshD>::Open(mesh, output.c_str(), mask), 0);
+    ASSERT_EQ(mesh.vn, 3);
+    ASSERT_EQ(mesh.fn, 1);
+    const double expected[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 3; ++k) EXPECT_EQ(mesh.face[0].cV(i)->cP()[k], expected[i][k]) << i << " " << k;
+  }
+  std::filesystem::remove_all(dir);
 }
