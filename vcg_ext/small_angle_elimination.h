@@ -89,6 +89,12 @@ public:
     bool deleteAndRefill = true; ///< delete vertices that keep a small angle and retriangulate their hole
     int maxRefillValence = 12;   ///< only vertices of at most this valence are deleted
     double maxEdgeFactor = 2.0;  ///< a collapse never creates an edge longer than this x L
+    /// Last resort for the faces still bad after the rounds: they usually straddle a sharp crease
+    /// of the reference (a cusp between atom spheres), where every edit tilts a face more than
+    /// guards.maxNormalDeviationDeg away from the reference normals averaged over its corners.
+    /// The rounds run once more with the normal guard relaxed to this angle (still below 90, so
+    /// no face turns over; folds, intersections and the angle guards unchanged). 0 = off.
+    double creaseNormalDeviationDeg = 89.0;
     LocalOpsGuards guards =
         DefaultGuards(); ///< guards of every edit (minAngleDeg is set to Params::minAngleDeg)
   };
@@ -96,6 +102,7 @@ public:
   struct Result {
     bool ok = false;
     std::string message;                          ///< why it failed, or a one-line summary
+    bool creasePass = false;                      ///< the last-resort pass ran
     std::size_t smallFacesBefore = 0;             ///< faces with an angle below minAngleDeg, before
     std::size_t smallFacesAfter = 0;              ///< ... and after
     double angleMinBefore = 0, angleMinAfter = 0; ///< smallest angle, degrees
@@ -109,7 +116,7 @@ public:
              " -> " + std::to_string(angleMinAfter) + "\ncollapses: " + std::to_string(collapses) +
              "\nflips: " + std::to_string(flips) + "\nmoves: " + std::to_string(moves) +
              "\nrefills: " + std::to_string(refills) + "\nrefused: " + std::to_string(refused) +
-             "\nrounds: " + std::to_string(iterations) + "\n";
+             "\nrounds: " + std::to_string(iterations) + (creasePass ? " (with the crease pass)" : "") + "\n";
     }
   };
 
@@ -152,6 +159,18 @@ public:
     if (!ops.Init(&error, false, true)) return finish(false, "small-angle elimination refused: " + error);
     Session session(ops, params, L);
     session.Run(r);
+    double angleMin = 0;
+    if (params.creaseNormalDeviationDeg > guards.maxNormalDeviationDeg &&
+        CountSmall(m, params.minAngleDeg, angleMin) > 0) {
+      LocalOpsGuards crease = guards;
+      crease.maxNormalDeviationDeg = params.creaseNormalDeviationDeg;
+      ops.SetGuards(crease);
+      r.creasePass = true;
+      const int rounds = r.iterations;
+      session.Run(r);
+      r.iterations += rounds;
+      ops.SetGuards(guards);
+    }
     r.refused = ops.Stats().Refused();
     ops.Finish();
     vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
