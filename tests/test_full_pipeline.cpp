@@ -154,7 +154,7 @@ TEST(FullPipeline, BadInputsFailClearlyAndWriteNothing) {
     EXPECT_NE(r.err.find("molremesh: error:"), std::string::npos) << input << "\n" << r.err;
     EXPECT_FALSE(std::filesystem::exists(out)) << input;
   }
-  // A single open triangle is a valid mesh: remeshed or refused with a message, never a crash or hang.
+  // A single open triangle is no surface to remesh: refused with a message.
   const auto triangle = dir / "single_triangle.ply";
   std::ofstream(triangle)
       << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
@@ -163,11 +163,8 @@ TEST(FullPipeline, BadInputsFailClearlyAndWriteNothing) {
   const std::string out = (dir / "triangle_out.ply").string();
   const CommandResult r = molremesh::test::Run("timeout 120 " + Quote(kCli) + " remesh --quiet " +
                                                Quote(triangle.string()) + " " + Quote(out));
-  EXPECT_TRUE(r.exitCode == 0 || r.exitCode == 2) << r.exitCode << "\n" << r.err;
-  if (r.exitCode == 0) {
-    EXPECT_TRUE(std::filesystem::exists(out));
-  } else {
-    EXPECT_NE(r.err.find("molremesh: error:"), std::string::npos) << r.err;
-  }
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_NE(r.err.find("too few to remesh"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
   std::filesystem::remove_all(dir);
 }

@@ -161,8 +161,10 @@ TEST(MeshlabServer, CleanThenCvtScriptsMatchTheCliPipeline) {
 TEST(MeshlabServer, BadInputFailsWithOurMessageAndSavesNothing) {
   for (const auto& [fixture, message] : std::vector<std::pair<std::string, std::string>>{
            {"point_cloud.ply", "point cloud"}, {"nan_vertex.ply", "NaN"}}) {
-    for (const char* script : {"quality_report.mlx", "color_bad_elements.mlx", "clean_raw_mesh.mlx",
-                               "cvt_initialization.mlx", "random_segmentation.mlx", "patchwise_rar.mlx"}) {
+    for (const char* script :
+         {"quality_report.mlx", "color_bad_elements.mlx", "clean_raw_mesh.mlx", "cvt_initialization.mlx",
+          "random_segmentation.mlx", "patchwise_rar.mlx", "valence_optimization.mlx",
+          "remove_small_angles.mlx", "reduce_obtuse.mlx", "local_smoothing.mlx", "full_pipeline.mlx"}) {
       const auto dir = TempDir("mls_bad");
       const std::string output = (dir / "out.ply").string();
       const std::string logFile = (dir / "log.txt").string();
@@ -340,29 +342,87 @@ TEST(MeshlabServer, RemeshScriptRefusesBadInputAndSavesNothing) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(MeshlabServer, RemeshScriptOnASingleTriangleEndsAndKeepsIt) {
-  // A single open triangle is a valid mesh for the filters: nothing to clean (its 3-edge boundary
-  // is an open border, not a crack), CVT and RAR keep its 3 locked boundary vertices. It must end
-  // quickly and either be refused (status 255, nothing saved) or come out as the same triangle.
+TEST(MeshlabServer, RemeshScriptsRefuseASingleTriangle) {
+  // One open triangle is no surface to remesh: every remeshing script refuses it with a message,
+  // quickly, and saves nothing.
   const auto dir = TempDir("mls_remesh_triangle");
   const auto triangle = dir / "single_triangle.ply";
   WritePly(triangle, "one right triangle", "0 0 0\n1 0 0\n0 1 0\n", 3, "3 0 1 2\n", 1);
-  const std::string output = (dir / "out.ply").string();
-  const CommandResult r = BoundedServer("-i " + Quote(triangle.string()) + " -o " + Quote(output) + " -s " +
-                                            Quote(kScripts + "/remesh_clean_cvt_rar.mlx"),
-                                        120);
-  ASSERT_TRUE(r.exitCode == 0 || r.exitCode == 255) << "status " << r.exitCode << "\n" << r.out << r.err;
-  if (r.exitCode == 255) {
-    EXPECT_FALSE(std::filesystem::exists(output));
-  } else {
-    MeshD mesh;
-    int mask = 0;
-    ASSERT_EQ(vcg::tri::io::ImporterPLY<MeshD>::Open(mesh, output.c_str(), mask), 0);
-    ASSERT_EQ(mesh.vn, 3);
-    ASSERT_EQ(mesh.fn, 1);
-    const double expected[3][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-    for (int i = 0; i < 3; ++i)
-      for (int k = 0; k < 3; ++k) EXPECT_EQ(mesh.face[0].cV(i)->cP()[k], expected[i][k]) << i << " " << k;
+  for (const char* script : {"remesh_clean_cvt_rar.mlx", "full_pipeline.mlx", "valence_optimization.mlx"}) {
+    const std::string output = (dir / "out.ply").string();
+    const std::string logFile = (dir / "log.txt").string();
+    const CommandResult r =
+        BoundedServer("-l " + Quote(logFile) + " -i " + Quote(triangle.string()) + " -o " + Quote(output) +
+                          " -s " + Quote(kScripts + "/" + script),
+                      120);
+    const std::string log = ReadFile(logFile) + r.out + r.err;
+    EXPECT_EQ(r.exitCode, 255) << script << "\n" << log;
+    EXPECT_NE(log.find("too few to remesh"), std::string::npos) << script << "\n" << log;
+    EXPECT_FALSE(std::filesystem::exists(output)) << script;
   }
   std::filesystem::remove_all(dir);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Issue 5 acceptance through meshlabserver: full_pipeline.mlx (the Full Pipeline filter) on every
+// shared mesh: every angle in [30, 120], V567 >= 99.8 %, valid, volume kept; and on small meshes
+// the very figures of `molremesh remesh` (one filter = the CLI's pipeline, same seed).
+// ------------------------------------------------------------------------------------------------
+class MeshlabServerFullPipeline : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(MeshlabServerFullPipeline, FullPipelineScriptMeetsTheAcceptanceFigures) {
+  const std::string input = SharedMesh(GetParam());
+  const auto dir = TempDir("mls_full");
+  const std::string viaServer = (dir / "server.ply").string();
+  const std::string cleanedFile = (dir / "cleaned.ply").string();
+  const std::string logFile = (dir / "log.txt").string();
+  const CommandResult r =
+      BoundedServer("-l " + Quote(logFile) + " -i " + Quote(input) + " -o " + Quote(viaServer) + " -s " +
+                        Quote(kScripts + "/full_pipeline.mlx"),
+                    1500);
+  ASSERT_EQ(r.exitCode, 0) << ReadFile(logFile) << r.out << r.err;
+  const CommandResult clean = molremesh::test::Run(Quote(kCli) + " remesh --quiet --stages clean " +
+                                                   Quote(input) + " " + Quote(cleanedFile));
+  ASSERT_EQ(clean.exitCode, 0) << clean.err;
+  const nlohmann::json cleaned = CliReport(cleanedFile);
+  const nlohmann::json server = CliReport(viaServer);
+  std::printf("[ figures  ] %s faces %d theta [%.2f, %.2f] V567 %.3f obtuse %.3f%% SI %d\n",
+              GetParam().c_str(), server["faces"].get<int>(), server["angle_min_deg"].get<double>(),
+              server["angle_max_deg"].get<double>(), server["v567_percent"].get<double>(),
+              server["obtuse_percent"].get<double>(), server["self_intersecting_pairs"].get<int>());
+  EXPECT_GE(server["angle_min_deg"].get<double>(), 30.0);
+  EXPECT_LE(server["angle_max_deg"].get<double>(), 120.0);
+  EXPECT_GE(server["v567_percent"].get<double>(), 99.8);
+  EXPECT_EQ(server["two_manifold"], true);
+  EXPECT_EQ(server["degenerate_faces"], 0);
+  EXPECT_EQ(server["self_intersecting_pairs"], 0);
+  EXPECT_EQ(server["boundary_edges"], cleaned["boundary_edges"]);
+  EXPECT_EQ(ComponentTopology(server), ComponentTopology(cleaned)) << "each component keeps its genus";
+  const double cleanedVolume = cleaned["volume"].get<double>();
+  EXPECT_NEAR(server["volume"].get<double>(), cleanedVolume, 0.005 * std::abs(cleanedVolume));
+  std::filesystem::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(AllSharedMeshes, MeshlabServerFullPipeline, ::testing::ValuesIn(kAllMeshes), Name);
+
+TEST(MeshlabServer, FullPipelineScriptGivesTheCliResult) {
+  for (const char* mesh : {"bpti_1bpi_msms.ply", "ubiquitin_1UBQ_pymol_ses.ply"}) {
+    const auto dir = TempDir("mls_full_cli");
+    const std::string viaServer = (dir / "server.ply").string();
+    const std::string viaCli = (dir / "cli.ply").string();
+    const CommandResult r = BoundedServer("-i " + Quote(SharedMesh(mesh)) + " -o " + Quote(viaServer) +
+                                              " -s " + Quote(kScripts + "/full_pipeline.mlx"),
+                                          600);
+    ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+    const CommandResult cli = molremesh::test::Run(Quote(kCli) + " remesh --quiet " +
+                                                   Quote(SharedMesh(mesh)) + " " + Quote(viaCli));
+    ASSERT_EQ(cli.exitCode, 0) << cli.err;
+    const nlohmann::json server = CliReport(viaServer);
+    const nlohmann::json direct = CliReport(viaCli);
+    EXPECT_EQ(server["faces"], direct["faces"]) << mesh;
+    EXPECT_EQ(server["vertices"], direct["vertices"]) << mesh;
+    EXPECT_NEAR(server["angle_min_deg"].get<double>(), direct["angle_min_deg"].get<double>(), 1e-3) << mesh;
+    EXPECT_NEAR(server["v567_percent"].get<double>(), direct["v567_percent"].get<double>(), 1e-9) << mesh;
+    std::filesystem::remove_all(dir);
+  }
 }

@@ -122,6 +122,7 @@ struct PipelineResult {
 template <class MeshType>
 class RemeshPipeline {
 public:
+  static constexpr int kMinFaces = 4; ///< smaller meshes are refused
   struct Params {
     std::vector<PipelineStage> stages = AllStages(); ///< which stages run (in pipeline order)
     double targetEdgeLength = 0;  ///< L for every stage; 0 = mean edge length of the (cleaned) input
@@ -168,6 +169,14 @@ public:
     if (!check.ok) {
       result.ok = false;
       result.message = check.message;
+      return result;
+    }
+    // A surface to remesh needs at least a tetrahedron's 4 faces; fewer (a lone triangle, a
+    // pair) are refused with a message rather than passed through unchanged.
+    if (m.fn < kMinFaces) {
+      result.ok = false;
+      result.message = "the mesh has only " + std::to_string(m.fn) + " face" + (m.fn == 1 ? "" : "s") +
+                       ": too few to remesh (a closed surface has at least " + std::to_string(kMinFaces) + ")";
       return result;
     }
     typename MeshQuality<MeshType>::Params qualityParams;
