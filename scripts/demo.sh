@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job on bundled data, from a fresh clone: installs the dependencies, builds, installs the
-# plugin into Debian's MeshLab, then inspects a real molecular mesh with the CLI and with
-# meshlabserver. Results go to demo_output/ (override with OUT_DIR); pass mesh files to use others.
+# plugin into Debian's MeshLab, then inspects and remeshes real molecular meshes with the CLI and with
+# meshlabserver (the full pipeline). Results go to demo_output/ (override with OUT_DIR); pass mesh files to use others.
 set -euo pipefail
 repo=$(cd "$(dirname "$0")/.." && pwd)
 build=${BUILD_DIR:-$repo/build}
@@ -39,9 +39,16 @@ for mesh in "${meshes[@]}"; do
   echo "   -> $out/${name}_meshlab_colored.ply (open it in MeshLab: red = irregular vertex / obtuse face," \
        "blue = angle < 30 deg, magenta = both)"
   echo
-  echo "== $name: remeshing (clean, CVT, segmentation, patch-wise RAR) -> $out/${name}_remeshed.ply"
-  "$build/cli/molremesh" remesh "$mesh" "$out/${name}_remeshed.ply" --stages clean,cvt,segment,rar --quiet
+  echo "== $name: the full pipeline (clean, CVT, valence, segment + RAR, small, obtuse, smooth, polish)" \
+       "-> $out/${name}_remeshed.ply"
+  "$build/cli/molremesh" remesh "$mesh" "$out/${name}_remeshed.ply" --quiet --json "$out/${name}_remeshed.json"
   "$build/cli/molremesh" color "$out/${name}_remeshed.ply" "$out/${name}_remeshed_colored.ply"
+  echo
+  echo "== $name: the Full Pipeline filter through meshlabserver -> $out/${name}_meshlab_remeshed.ply"
+  xvfb-run -a meshlabserver -l "$out/${name}_meshlab_full.log" -i "$mesh" -o "$out/${name}_meshlab_remeshed.ply" \
+    -s "$repo/meshlabserver_scripts/full_pipeline.mlx" >/dev/null 2>&1
+  grep -E "(min angle|max angle|V567|obtuse faces|self-intersecting pairs|stage times)" \
+    "$out/${name}_meshlab_full.log" | sed 's/^LOG: [0-9] //' | sort -u || cat "$out/${name}_meshlab_full.log"
 done
 echo
 echo "Done. The filters are in MeshLab under Filters > Remeshing, Simplification and Reconstruction."
