@@ -79,7 +79,8 @@ nlohmann::json Stats(const MeshD& m, const std::string& path) {
 nlohmann::json ToJson(const molremesh::OneSidedDistance& d) {
   return {{"max", d.max},           {"mean", d.mean},           {"rms", d.rms},
           {"vertex_max", d.vertexMax}, {"vertex_mean", d.vertexMean}, {"face_sample_max", d.faceMax},
-          {"face_sample_mean", d.faceMean}, {"vertex_samples", d.vertexSamples}, {"face_samples", d.faceSamples}};
+          {"face_sample_mean", d.faceMean}, {"vertex_samples", d.vertexSamples}, {"face_samples", d.faceSamples},
+          {"max_at", {d.maxAt[0], d.maxAt[1], d.maxAt[2]}}};
 }
 
 bool Load(MeshD& m, const std::string& path) {

@@ -50,6 +50,7 @@ struct OneSidedDistance {
   double vertexMean = 0;///< mean distance of A's vertices to B
   double faceMax = 0;   ///< largest distance of the face samples to B
   double faceMean = 0;  ///< mean over the face samples: the area-weighted mean distance of A to B
+  vcg::Point3d maxAt{0, 0, 0}; ///< the sample of A where max is reached (the first one on ties)
 };
 
 /// Distances both ways and their maximum.
@@ -447,7 +448,10 @@ OneSidedDistance SurfaceDistance<MeshA, MeshB>::OneSided(const MeshA& a, const M
   for (std::size_t i = 0; i < d.size(); ++i) {
     sum += d[i];
     sum2 += d[i] * d[i];
-    result.max = std::max(result.max, d[i]);
+    if (d[i] > result.max) {
+      result.max = d[i];
+      result.maxAt = queries[i];
+    }
     if (i < result.vertexSamples) {
       vertexSum += d[i];
       result.vertexMax = std::max(result.vertexMax, d[i]);
