@@ -33,7 +33,15 @@
 //    corner of valence 3 or 4 (its triangles have right or obtuse angles whatever its position)
 //    is removed by collapsing it into the neighbour that leaves the best triangles, or gets one
 //    more edge by a flip of its link.
-//  - finally (Finalize: Do, and PatchwiseRemeshing after its strip pass) the volume: vertices on
+//  - finally (Finalize: Do, and PatchwiseRemeshing after its strip pass) first the
+//    approximation error at the input's own vertices (an addition of ours): chords between
+//    vertices on the input cut off its cusps, spikes and the lips of grooves, where the input's
+//    vertices end up to ~0.9 L0 from the result (the one-sided Hausdorff distance input ->
+//    result). Every input vertex farther than snapTolerance x L0 from the result (exact
+//    distances to a grid of the result) has the nearest free corner of its closest face moved
+//    onto it, farthest first, under snapGuards (angles 36..100 degrees), and beyond
+//    snapLooseTolerance x L0 under snapLooseGuards (down to 25 degrees); a few rounds, and the
+//    snapped vertices stay locked through the last repair pass. Then the volume: vertices on
 //    the input enclose less volume than the input where it is convex (chords cut it), so each
 //    closed component is offset along its area-weighted vertex normals by
 //    (V_input - V) / A, twice (the second pass takes the curvature term out), no vertex
@@ -56,6 +64,7 @@
 #include <vcg_ext/mesh_quality.h>
 #include <vcg_ext/parallel_for.h>
 #include <vcg_ext/reference_surface.h>
+#include <vcg_ext/surface_distance.h>
 
 #include <algorithm>
 #include <array>
@@ -78,6 +87,7 @@ struct AdaptiveRemeshingStats {
   std::size_t movesApplied = 0, movesRejected = 0;     ///< tangential relaxation
   std::size_t repairMoves = 0, repairFlips = 0, repairCollapses = 0; ///< repair pass (collapses:
                                                                      ///< needles and low-valence vertices)
+  std::size_t snapMoves = 0;                           ///< vertices moved onto far input vertices (Finalize)
   std::size_t refused = 0;                             ///< refused local operations, all reasons
   double volumeOffset = 0;                             ///< largest |normal offset| of RestoreVolume, in units of L0
   int iterations = 0;                                  ///< iterations done
@@ -92,6 +102,7 @@ struct AdaptiveRemeshingStats {
     repairMoves += o.repairMoves;
     repairFlips += o.repairFlips;
     repairCollapses += o.repairCollapses;
+    snapMoves += o.snapMoves;
     refused += o.refused;
     volumeOffset = std::max(volumeOffset, o.volumeOffset);
     iterations = std::max(iterations, o.iterations);
@@ -118,6 +129,28 @@ inline LocalOpsGuards RarDefaultSplitGuards() {
   LocalOpsGuards g;
   g.minAngleDeg = 20.0;
   g.maxAngleDeg = 150.0;
+  return g;
+}
+
+/// Guards of the snapping moves of Finalize (a vertex moved onto an input vertex the remeshed
+/// surface cuts off): angles between 36 and 100 degrees, folds and normals as loose as the
+/// repair pass allows on sharp creases (the input vertices far from the result sit on cusps and
+/// spikes).
+inline LocalOpsGuards RarDefaultSnapGuards() {
+  LocalOpsGuards g;
+  g.minAngleDeg = 36.0;
+  g.maxAngleDeg = 100.0;
+  g.maxFoldAngleDeg = 150.0;
+  g.maxNormalDeviationDeg = 90.0;
+  return g;
+}
+
+/// Guards of the snapping moves onto input vertices farther than Params::snapLooseTolerance:
+/// angles down to 25 degrees (the repair pass then reshapes the neighbourhood around the tip).
+inline LocalOpsGuards RarDefaultSnapLooseGuards() {
+  LocalOpsGuards g = RarDefaultSnapGuards();
+  g.minAngleDeg = 25.0;
+  g.maxAngleDeg = 120.0;
   return g;
 }
 
@@ -163,6 +196,14 @@ public:
     bool preserveVolume = true;          ///< offset closed components along their normals to the input's volume
     double maxVolumeOffset = 0.05;       ///< bound on that offset, in units of L0
     double volumeTolerance = 1e-4;       ///< components whose volume is off by less (relative) are left alone
+    double snapTolerance = 0.1;          ///< Finalize: input vertices farther than this x L0 from the result (the
+                                         ///< tips of cusps and spikes that chords cut off) get the nearest free
+                                         ///< corner of the closest face moved onto them (0 = off)
+    double snapLooseTolerance = 0.3;     ///< input vertices farther than this x L0 may be snapped with snapLooseGuards
+    double snapMaxMove = 1.0;            ///< such a move is at most this x L0 long
+    int snapRounds = 3;                  ///< rounds of snapping (each measures the distances anew)
+    LocalOpsGuards snapGuards = RarDefaultSnapGuards(); ///< guards of the snapping moves
+    LocalOpsGuards snapLooseGuards = RarDefaultSnapLooseGuards(); ///< second try, beyond snapLooseTolerance
     LocalOpsGuards guards = RarDefaultGuards();           ///< collapses, flips, relaxation, repair
     LocalOpsGuards splitGuards = RarDefaultSplitGuards(); ///< splits
     LocalOpsGuards repairGuards = RarDefaultRepairGuards(); ///< collapses of needles in the repair pass
@@ -214,6 +255,14 @@ public:
   /// volume error) are left alone; locked and boundary vertices stay. Returns the largest
   /// |offset| from the reference of a moved vertex.
   static double RestoreVolume(Ops& ops, double maxOffset, double tolerance, int threads);
+
+  /// Moves mesh vertices onto the input vertices (reference vertices) that lie farther than
+  /// params.snapTolerance x L0 from the mesh, farthest first: the free corners of the closest
+  /// face, nearest first, each at most snapMaxMove x L0, guarded by params.snapGuards. Vertices
+  /// moved are flagged in `snapped` (indexed like m.vert) and never moved again by it. Returns the
+  /// number of moves. Deterministic (distances computed in parallel, edits serial in a fixed order).
+  static std::size_t SnapToInputVertices(Ops& ops, const Params& params, int threads,
+                                         std::vector<std::uint8_t>& snapped);
 
   /// Smallest angle of triangle (a, b, c) in degrees and its quality Q (see the file comment).
   static void TriangleShape(const Point& a, const Point& b, const Point& c, double& minAngleDeg, double& quality);
@@ -1011,11 +1060,106 @@ AdaptiveRemeshingStats AdaptiveRemeshing<MeshType>::Finalize(Ops& ops, std::vect
   MeshType& m = ops.Mesh();
   for (std::size_t i = 0; i < m.vert.size(); ++i) ops.SetLocked(m.vert[i], false);
   const double L0 = ops.TargetEdgeLength();
+  std::vector<std::uint8_t> snapped(m.vert.size(), 0);
+  const std::size_t snaps = SnapToInputVertices(ops, params, threads, snapped);
   double offset = 0;
   if (params.preserveVolume) offset = RestoreVolume(ops, params.maxVolumeOffset * L0, params.volumeTolerance, threads);
+  // The snapped vertices stay during the repair (it would move them off the tips again).
+  for (std::size_t i = 0; i < snapped.size() && i < m.vert.size(); ++i)
+    if (snapped[i]) ops.SetLocked(m.vert[i], true);
   AdaptiveRemeshingStats stats = Remesh(ops, sizing, params, 0, threads);
+  for (std::size_t i = 0; i < m.vert.size(); ++i) ops.SetLocked(m.vert[i], false);
   stats.volumeOffset = offset / L0;
+  stats.snapMoves = snaps;
   return stats;
+}
+
+template <class MeshType>
+std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Params& params, int threads,
+                                                             std::vector<std::uint8_t>& snapped) {
+  MeshType& m = ops.Mesh();
+  const Reference& ref = ops.GetReference();
+  const double L0 = ops.TargetEdgeLength();
+  const double tolerance = params.snapTolerance * L0, maxMove = params.snapMaxMove * L0;
+  const double looseTolerance = params.snapLooseTolerance * L0;
+  snapped.resize(m.vert.size(), 0);
+  if (!(tolerance > 0) || params.snapRounds <= 0 || ref.VertexCount() == 0) return 0;
+  threads = ResolveThreadCount(threads);
+  ops.VerifyPendingMoves(threads);
+  const LocalOpsGuards saved = ops.Guards();
+  ops.SetGuards(params.snapGuards);
+  using distance_detail::TriangleGrid;
+  std::size_t moves = 0;
+  std::vector<double> distance(ref.VertexCount());
+  std::vector<long long> hitFace(ref.VertexCount());
+  for (int round = 0; round < params.snapRounds; ++round) {
+    // Exact distances of the reference vertices to the current mesh.
+    std::vector<Point> points(m.vert.size());
+    for (std::size_t i = 0; i < m.vert.size(); ++i) points[i] = Ops::ToPoint(m.vert[i].cP());
+    std::vector<std::array<distance_detail::Index, 3>> tris;
+    std::vector<std::size_t> faceOf;
+    tris.reserve(m.face.size());
+    faceOf.reserve(m.face.size());
+    for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
+      const FaceType& f = m.face[fi];
+      if (f.IsD()) continue;
+      tris.push_back({distance_detail::Index(vcg::tri::Index(m, f.cV(0))),
+                      distance_detail::Index(vcg::tri::Index(m, f.cV(1))),
+                      distance_detail::Index(vcg::tri::Index(m, f.cV(2)))});
+      faceOf.push_back(fi);
+    }
+    if (tris.empty()) break;
+    TriangleGrid grid;
+    grid.Build(std::move(points), std::move(tris));
+    std::vector<TriangleGrid::QueryScratch> scratch(static_cast<std::size_t>(threads));
+    ParallelFor(ref.VertexCount(), threads, [&](std::size_t begin, std::size_t end, int t) {
+      for (std::size_t i = begin; i < end; ++i) {
+        const TriangleGrid::Hit hit = grid.Closest(ref.Vertex(i), scratch[std::size_t(t)]);
+        distance[i] = hit.distance;
+        hitFace[i] = hit.face;
+      }
+    });
+    std::vector<std::pair<double, std::uint32_t>> far;
+    for (std::size_t i = 0; i < distance.size(); ++i)
+      if (distance[i] > tolerance && hitFace[i] >= 0) far.emplace_back(-distance[i], std::uint32_t(i));
+    std::sort(far.begin(), far.end());
+    std::size_t roundMoves = 0;
+    for (const auto& [negative, i] : far) {
+      const std::size_t fi = faceOf[std::size_t(hitFace[i])];
+      if (fi >= m.face.size() || m.face[fi].IsD()) continue;
+      const Point p = ref.Vertex(i);
+      FaceType& f = m.face[fi];
+      Point closest;
+      const double now2 = distance_detail::TriangleDistance2(p, Ops::ToPoint(f.cV(0)->cP()), Ops::ToPoint(f.cV(1)->cP()),
+                                                             Ops::ToPoint(f.cV(2)->cP()), closest);
+      if (!(now2 > tolerance * tolerance)) continue; // an earlier move fixed it
+      std::array<std::pair<double, int>, 3> order;
+      for (int k = 0; k < 3; ++k) order[k] = {(Ops::ToPoint(f.cV(k)->cP()) - p).SquaredNorm(), k};
+      std::sort(order.begin(), order.end());
+      for (const auto& [d2, k] : order) {
+        VertexPointer v = f.V(k);
+        const std::size_t vi = std::size_t(vcg::tri::Index(m, v));
+        if (vi < snapped.size() && snapped[vi]) continue;
+        if (d2 > maxMove * maxMove || ops.IsLocked(*v) || ops.IsBoundaryVertex(*v)) continue;
+        bool okMove = ops.MoveVertexTo(v, p, ref.VertexFace(i));
+        if (!okMove && -negative > looseTolerance) {
+          ops.SetGuards(params.snapLooseGuards);
+          okMove = ops.MoveVertexTo(v, p, ref.VertexFace(i));
+          ops.SetGuards(params.snapGuards);
+        }
+        if (okMove) {
+          if (vi >= snapped.size()) snapped.resize(vi + 1, 0);
+          snapped[vi] = 1;
+          ++roundMoves;
+          break;
+        }
+      }
+    }
+    moves += roundMoves;
+    if (roundMoves == 0) break;
+  }
+  ops.SetGuards(saved);
+  return moves;
 }
 
 template <class MeshType>

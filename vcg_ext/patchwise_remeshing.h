@@ -242,6 +242,7 @@ std::string PatchwiseRemeshing<MeshType>::Result::Summary() const {
     << "repair moves/flips/collapses: " << patchStats.repairMoves + stripStats.repairMoves << "/"
     << patchStats.repairFlips + stripStats.repairFlips << "/"
     << patchStats.repairCollapses + stripStats.repairCollapses << "\n"
+    << "snapped onto far input vertices: " << patchStats.snapMoves + stripStats.snapMoves << "\n"
     << "volume offset (x L0): " << std::max(patchStats.volumeOffset, stripStats.volumeOffset) << "\n"
     << "cross-patch conflicts: " << conflictPairs << "\n"
     << "patches redone: " << patchesRedone << "\n"

@@ -144,6 +144,11 @@ public:
 
   /// Corner i of reference face f.
   const Point& Corner(int f, int i) const { return faces_[f].p[i]; }
+  /// The distinct vertices of the reference (each once, in the order of their first face) and,
+  /// for each, one reference face holding it.
+  std::size_t VertexCount() const { return vertices_.size(); }
+  const Point& Vertex(std::size_t i) const { return vertices_[i]; }
+  int VertexFace(std::size_t i) const { return vertexFace_[i]; }
   /// Unit normal of reference face f (0 for a degenerate face).
   const Point& FaceNormal(int f) const { return faces_[f].n; }
   /// Connected components (through shared edges): count, the component of face f, whether it
@@ -202,6 +207,8 @@ private:
   std::vector<double> componentVolume_;
   std::vector<bool> componentClosed_;
   std::vector<int> referenceOf_;
+  std::vector<Point> vertices_;
+  std::vector<int> vertexFace_;
   double meanEdge_ = 0, area_ = 0, searchRadius_ = 0, cosMaxNormalAngle_ = 0;
   vcg::Box3d box_;
 
@@ -262,6 +269,18 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
     tris.push_back(tri);
   }
   faceCount_ = faces_.size();
+  {
+    std::vector<int> seen(m.vert.size(), -1);
+    vertices_.clear();
+    vertexFace_.clear();
+    for (std::size_t f = 0; f < faceCount_; ++f)
+      for (int k = 0; k < 3; ++k)
+        if (seen[tris[f][k]] < 0) {
+          seen[tris[f][k]] = int(vertices_.size());
+          vertices_.push_back(faces_[f].p[k]);
+          vertexFace_.push_back(int(f));
+        }
+  }
   if (params_.phongAlpha > 0 && faceCount_ > 0) {
     // Angle-weighted vertex normals.
     std::vector<Point> vertexNormal(m.vert.size(), Point(0, 0, 0));
