@@ -338,6 +338,9 @@ protected:
     ASSERT_TRUE(
         molremesh::LoadMesh(*output, molremesh::test::SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), error));
     Pipeline::Params params;
+    // The stages of this acceptance block (the pipeline's default now runs every stage).
+    params.stages = {molremesh::PipelineStage::Clean, molremesh::PipelineStage::Cvt,
+                     molremesh::PipelineStage::Segment, molremesh::PipelineStage::Rar};
     params.cvt.iterations = 10;
     params.segment.patchCount = 4;
     params.rar.rar.iterations = 3;
