@@ -82,7 +82,8 @@ public:
     double vertexCountTolerance = 0.005; ///< relative; the count is matched within it
     bool delaunayFlips = true;         ///< flip to Delaunay after every verification of the Lloyd moves
     double maxFlipsPerVertex = 2.0;    ///< bound on the flips of one Delaunay restoration, per vertex
-    double minMoveFactor = 1e-6;       ///< Lloyd moves shorter than this x L are skipped (converged)
+    double minMoveFactor = 1e-6;       ///< Lloyd moves shorter than this x L (along the input's tangent plane)
+                                       ///< are skipped: the site has converged (no projection, no move)
     int verifyEvery = 4;               ///< Lloyd iterations between two verifications + Delaunay flip passes
                                        ///< (the first two and the last iteration are always verified)
     int threads = 0;                   ///< worker threads; 0 = all cores (the result does not depend on it)
@@ -599,6 +600,17 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
       for (std::size_t i = begin; i < end; ++i) {
         const std::uint32_t vi = movable[i];
         const Point c = cellWeighted[vi] / cellArea[vi];
+        // Converged (the centroid is within minMove of the site along the input's tangent
+        // plane; its offset along the normal is the cell's curvature): no projection, no move.
+        const int foot = ops.Footpoint(m.vert[vi]);
+        Point shift = c - position[vi];
+        if (foot >= 0) shift -= reference->FaceNormal(foot) * (shift * reference->FaceNormal(foot));
+        if (!(shift.SquaredNorm() > minMove2)) {
+          target[i] = position[vi];
+          targetFoot[i] = -1;
+          moveLength[i] = 0.0;
+          continue;
+        }
         const SurfaceProjection proj = reference->Project(c, ops.Footpoint(m.vert[vi]), scratch[t]);
         target[i] = proj.point;
         targetFoot[i] = proj.face;
