@@ -71,9 +71,10 @@ MESHLAB_MLX = """<!DOCTYPE FilterScript>
 class Run:
     """Outcome of one process: exit code (128+signal when killed), wall seconds, peak RSS in MB."""
 
-    def __init__(self, code, seconds, peak_mb, timed_out, stdout, stderr):
+    def __init__(self, code, seconds, peak_mb, timed_out, stdout, stderr, stage_peaks=None):
         self.code, self.seconds, self.peak_mb = code, seconds, peak_mb
         self.timed_out, self.stdout, self.stderr = timed_out, stdout, stderr
+        self.stage_peaks = stage_peaks or {}  # stage name -> peak resident MB sampled while it ran
 
     @property
     def ok(self):
@@ -100,11 +101,52 @@ def _stop(signum, frame):
     sys.exit(128 + signum)
 
 
-def run_measured(argv, timeout, cwd=None, log_prefix=None):
+def _read_rss_mb(pid):
+    """Current resident size of pid in MB (VmRSS of /proc/PID/status), None when gone."""
+    try:
+        with open("/proc/%d/status" % pid) as f:
+            for line in f:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1]) / 1024.0
+    except (OSError, ValueError, IndexError):
+        return None
+    return None
+
+
+def _stage_monitor(pid, err_path, peaks, stop, interval=0.02):
+    """Samples pid's resident size every `interval` s and charges each sample to the pipeline
+    stage running then, read from the `molremesh: stage NAME ...` lines of its stderr ("load"
+    before the first stage, "save" after the last "done")."""
+    current = "load"
+    offset = 0
+    while not stop.is_set():
+        try:
+            with open(err_path, errors="replace") as f:
+                f.seek(offset)
+                chunk = f.read()
+                offset = f.tell()
+        except OSError:
+            chunk = ""
+        for line in chunk.splitlines():
+            words = line.split()
+            if len(words) >= 4 and words[0] == "molremesh:" and words[1] == "stage":
+                if words[3] == "...":
+                    current = words[2]
+                elif words[3] == "done":
+                    current = "save"
+        rss = _read_rss_mb(pid)
+        if rss is not None:
+            peaks[current] = max(peaks.get(current, 0.0), rss)
+        stop.wait(interval)
+
+
+def run_measured(argv, timeout, cwd=None, log_prefix=None, monitor_stages=False):
     """Runs argv in its own process group; wall time and peak memory come from os.wait4.
 
     The group is killed when the timeout passes. stdout/stderr go to files (no pipe can fill up),
-    kept as log_prefix.out/.err when log_prefix is given.
+    kept as log_prefix.out/.err when log_prefix is given. monitor_stages: also sample the
+    process's resident size (20 ms) per molremesh pipeline stage (Run.stage_peaks; a sampled
+    peak, so it can miss a spike shorter than the interval).
     """
     tmp = tempfile.mkdtemp(prefix="molremesh_run_")
     out_path = (log_prefix + ".out") if log_prefix else os.path.join(tmp, "out")
@@ -130,12 +172,21 @@ def run_measured(argv, timeout, cwd=None, log_prefix=None):
             timer = threading.Timer(timeout, kill) if timeout else None
             if timer:
                 timer.start()
+            stage_peaks, stop_monitor = {}, threading.Event()
+            monitor = None
+            if monitor_stages:
+                monitor = threading.Thread(target=_stage_monitor, args=(proc.pid, err_path, stage_peaks, stop_monitor),
+                                           daemon=True)
+                monitor.start()
             try:
                 _, status, usage = os.wait4(proc.pid, 0)
             finally:
                 _RUNNING.discard(proc.pid)
                 if timer:
                     timer.cancel()
+                stop_monitor.set()
+                if monitor:
+                    monitor.join()
             proc.returncode = os.waitstatus_to_exitcode(status)
             seconds = time.monotonic() - start
         code = proc.returncode if proc.returncode >= 0 else 128 - proc.returncode
@@ -143,7 +194,7 @@ def run_measured(argv, timeout, cwd=None, log_prefix=None):
             stdout = f.read()
         with open(err_path, errors="replace") as f:
             stderr = f.read()
-        return Run(code, seconds, usage.ru_maxrss / 1024.0, timed_out.is_set(), stdout, stderr)
+        return Run(code, seconds, usage.ru_maxrss / 1024.0, timed_out.is_set(), stdout, stderr, stage_peaks)
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 
@@ -288,8 +339,11 @@ def method_argv(method, tools, args, mesh, output, target, diag, work):
             f.write(MESHLAB_MLX.format(iterations=args.iterations, target=target, diag=diag, maxdist=0.01 * diag))
         log = os.path.join(work, "meshlab.log")
         return [tools.meshlab, "-l", log, "-i", mesh, "-o", output, "-s", mlx]
-    return format_template(args.molremesh_cmd, molremesh=tools.molremesh, input=mesh, output=output,
+    argv = format_template(args.molremesh_cmd, molremesh=tools.molremesh, input=mesh, output=output,
                            target="%.9g" % target, iterations=args.iterations)
+    if "--json" not in argv and os.path.basename(argv[0]) == "molremesh" and "remesh" in argv:
+        argv += ["--json", os.path.join(work, "molremesh_stages.json")]  # per-stage wall times
+    return argv
 
 
 def algorithm_seconds(method, run, tools, args, mesh, work):
@@ -299,6 +353,13 @@ def algorithm_seconds(method, run, tools, args, mesh, work):
         try:
             return float(json.loads(run.stdout)["remesh_seconds"])
         except (ValueError, KeyError):
+            return None
+    if method == "molremesh":
+        # The pipeline's own stage timers (quality reports between stages, load and save excluded).
+        try:
+            with open(os.path.join(work, "molremesh_stages.json")) as f:
+                return float(sum(s["seconds"] for s in json.load(f)["stages"]))
+        except (OSError, ValueError, KeyError, TypeError):
             return None
     if method == "meshlab":
         # meshlabserver does not log filter times: subtract a run that only loads and saves.
@@ -324,9 +385,17 @@ def measure_output(row, tools, output, mesh, input_report, target, work, args):
         row["hausdorff"] = dist["hausdorff"]
         row["hausdorff_over_L"] = dist["hausdorff"] / target
         row["mean_distance_over_L"] = 0.5 * (dist["a_to_b"]["mean"] + dist["b_to_a"]["mean"]) / target
+    cleaned = getattr(args, "_cleaned", {}).get(mesh)
+    if cleaned:
+        dist = tools.distance(output, cleaned)
+        if dist is not None:
+            row["hausdorff_cleaned_over_L"] = dist["hausdorff"] / target
     vin, vout = (input_report or {}).get("volume"), report.get("volume")
     if vin and vout is not None:
         row["volume_change_percent"] = 100.0 * (vout - vin) / abs(vin)
+    ain, aout = (input_report or {}).get("area"), report.get("area")
+    if ain and aout is not None:
+        row["area_change_percent"] = 100.0 * (aout - ain) / abs(ain)
     if not args.skip_tetgen:
         row["tetgen"] = tools.tetgen_check(output, work)
 
@@ -343,22 +412,48 @@ def bench_mesh(mesh, tools, args, methods, unavailable, work_root):
     target = (input_report or {}).get("mean_edge_length") or stats["mean_edge_length"]
     result = {"mesh": name, "file": mesh, "target_edge_length": target, "bbox_diagonal": stats["bbox_diagonal"],
               "rows": []}
+    # The input after molremesh's stage 0 alone (`--stages clean`: repairs, hole filling, small
+    # components dropped): a second yardstick for the distance, the surface molremesh remeshes.
+    cleaned = os.path.join(work, "%s_cleaned.ply" % name)
+    clean_run = run_measured([tools.molremesh, "remesh", mesh, cleaned, "--stages", "clean"], args.timeout, cwd=work)
+    if clean_run.ok and os.path.exists(cleaned):
+        args._cleaned = getattr(args, "_cleaned", {})
+        args._cleaned[mesh] = cleaned
     row = {"method": "input", "status": "ok", "report": input_report}
     if not args.skip_tetgen:
         row["tetgen"] = tools.tetgen_check(mesh, work)
     result["rows"].append(row)
 
+    reused = getattr(args, "_reused", {})
     for method in methods:
         row = {"method": method}
         result["rows"].append(row)
+        if (name, method) in reused:
+            # From an earlier run (--reuse-json): same program, input and parameters.
+            row.update(reused[(name, method)])
+            row["reused"] = True
+            ain, aout = (input_report or {}).get("area"), (row.get("report") or {}).get("area")
+            if ain and aout is not None:
+                row["area_change_percent"] = 100.0 * (aout - ain) / abs(ain)
+            print("  %s: taken from %s" % (method, args.reuse_json), file=sys.stderr)
+            continue
         if method in unavailable:
             row["status"] = "n/a (%s)" % unavailable[method]
             continue
         output = os.path.join(work, "%s_%s.ply" % (name, method))
         argv = method_argv(method, tools, args, mesh, output, target, stats["bbox_diagonal"], work)
         print("  %s: %s" % (method, " ".join(shlex.quote(a) for a in argv)), file=sys.stderr)
-        run = run_measured(argv, args.timeout, cwd=work, log_prefix=os.path.join(work, method))
+        run = run_measured(argv, args.timeout, cwd=work, log_prefix=os.path.join(work, method),
+                           monitor_stages=(method == "molremesh"))
         row.update(seconds=run.seconds, peak_mb=run.peak_mb, algorithm_seconds=None)
+        if method == "molremesh":
+            row["stage_peak_mb"] = run.stage_peaks
+            stages_json = os.path.join(work, "molremesh_stages.json")
+            try:
+                with open(stages_json) as f:
+                    row["stage_seconds"] = {s["name"]: s["seconds"] for s in json.load(f).get("stages", [])}
+            except (OSError, ValueError, KeyError, TypeError):
+                row["stage_seconds"] = {}
         if not run.ok or not os.path.exists(output) or os.path.getsize(output) == 0:
             row["status"] = "n/a (%s)" % (run.why() if not run.ok else "no output written")
             print("    failed: %s" % row["status"], file=sys.stderr)
@@ -374,7 +469,9 @@ def bench_mesh(mesh, tools, args, methods, unavailable, work_root):
 # --- Tables -------------------------------------------------------------------------------------
 
 COLUMNS = ["method", "faces in", "faces out", "time s", "remesh s", "peak MB", "θmin", "θmax", "Qmin", "V567 %",
-           "obtuse %", "% < 30°", "SI pairs", "boundary edges", "Hausdorff/L", "volume change %", "TetGen ok"]
+           "obtuse %", "% < 30°", "SI pairs", "boundary edges", "Hausdorff/L", "Hausdorff/L cleaned",
+           "area change %", "volume change %", "TetGen ok"]
+STAGE_ORDER = ["load", "clean", "cvt", "valence", "segment", "rar", "small", "obtuse", "smooth", "save"]
 
 
 def fmt(value, spec):
@@ -408,6 +505,8 @@ def row_cells(row, faces_in):
         fmt(r.get("self_intersecting_pairs"), "d"),
         fmt(r.get("boundary_edges"), "d"),
         fmt(row.get("hausdorff_over_L"), ".3f") if row["method"] != "input" else "",
+        fmt(row.get("hausdorff_cleaned_over_L"), ".3f") if row["method"] != "input" else "",
+        fmt(row.get("area_change_percent"), "+.2f") if row["method"] != "input" else "",
         fmt(row.get("volume_change_percent"), "+.2f") if row["method"] != "input" else "",
         "n/a" if tet is None else tet,
     ]
@@ -424,10 +523,26 @@ def mesh_table(result):
     return markdown_table(COLUMNS, [row_cells(row, faces_in) for row in result["rows"]])
 
 
+def stage_table(result):
+    """molremesh per stage: wall time (the pipeline's timers) and sampled peak resident MB."""
+    rows = [r for r in result["rows"] if r["method"] == "molremesh" and r.get("status") == "ok"]
+    if not rows:
+        return None
+    row = rows[0]
+    secs, peaks = row.get("stage_seconds") or {}, row.get("stage_peak_mb") or {}
+    names = [n for n in STAGE_ORDER if n in secs or n in peaks] + \
+        sorted(n for n in set(secs) | set(peaks) if n not in STAGE_ORDER)
+    cells = [[n, fmt(secs.get(n), ".2f") if n in secs else "", fmt(peaks.get(n), ".0f") if n in peaks else "n/a"]
+             for n in names]
+    cells.append(["whole process", fmt(row.get("seconds"), ".2f"), format_peak(row.get("peak_mb"))])
+    return markdown_table(["molremesh stage", "wall s", "peak MB"], cells)
+
+
 def summary_table(results, methods):
     """One row per method over all meshes: sums, worst cases and medians (see the legend)."""
     header = ["method", "meshes ok", "faces in", "faces out", "time s", "peak MB", "θmin", "θmax", "Qmin",
-              "V567 %", "obtuse %", "% < 30°", "SI pairs", "boundary edges", "Hausdorff/L", "max abs volume change %",
+              "V567 %", "obtuse %", "% < 30°", "SI pairs", "boundary edges", "Hausdorff/L", "Hausdorff/L cleaned",
+              "max abs area change %", "max abs volume change %",
               "TetGen ok"]
     rows = []
     for method in ("input",) + tuple(methods):
@@ -465,6 +580,8 @@ def summary_table(results, methods):
             agg(values("self_intersecting_pairs"), sum, "d"),
             agg(values("boundary_edges"), sum, "d"),
             "" if is_input else agg(values("hausdorff_over_L", "row"), max, ".3f"),
+            "" if is_input else agg(values("hausdorff_cleaned_over_L", "row"), max, ".3f"),
+            "" if is_input else agg([abs(v) for v in values("area_change_percent", "row")], max, ".2f"),
             "" if is_input else agg([abs(v) for v in values("volume_change_percent", "row")], max, ".2f"),
             ("%d/%d" % (sum(1 for t in tet_known if t.startswith("yes")), len(tet_known))) if tet_known else "n/a",
         ])
@@ -493,7 +610,10 @@ def describe_run(args, methods):
         "θmin/θmax = smallest/largest triangle angle; Qmin = min of Q = 6/√3·A/(p·h); V567 % = interior vertices "
         "of valence 5–7; obtuse % = faces with an angle ≥ 90°; % < 30° = faces with an angle < 30°; SI pairs = "
         "self-intersecting face pairs sharing no vertex; Hausdorff/L = symmetric Hausdorff distance output↔input "
-        "(vertices plus one area-uniform sample per face, both ways) over L; volume change = signed enclosed "
+        "(vertices plus one area-uniform sample per face, both ways) over L; Hausdorff/L cleaned = the same "
+        "against the input after molremesh's stage 0 alone (`molremesh remesh IN OUT --stages clean`: repaired, "
+        "holes closed, components under 1 % of the faces dropped), for every method; area change = surface area, "
+        "output vs input; volume change = signed enclosed "
         "volume, output vs input; TetGen ok = `tetgen -pq1.4` builds a tetrahedral mesh of the output (timeout "
         "{timeout} s). "
         "Quality figures come from `molremesh report --json`.".replace("{timeout}", "%.0f" % args.tetgen_timeout),
@@ -537,6 +657,9 @@ def run_all(args, skip, methods):
                 continue
             results.append(res)
             print("\n### %s (L = %.4f)\n\n%s\n" % (res["mesh"], res["target_edge_length"], mesh_table(res)))
+            stages = stage_table(res)
+            if stages:
+                print(stages + "\n")
             sys.stdout.flush()
     finally:
         if not args.work_dir:
@@ -569,11 +692,22 @@ def main():
     p.add_argument("--threads", type=int, default=1, help="threads of mesh_distance (%(default)s)")
     p.add_argument("--work-dir", help="keep outputs and logs here (default: a temporary folder, removed)")
     p.add_argument("--from-json", help="run nothing: print and write the tables of a file written by --json")
+    p.add_argument("--reuse-json", help="take the rows of --reuse-methods from this earlier --json file instead of "
+                                        "running them again (their programs have not changed)")
+    p.add_argument("--reuse-methods", nargs="+", default=["meshlab"], help="methods taken from --reuse-json "
+                                                                           "(%(default)s)")
     args = p.parse_args()
     signal.signal(signal.SIGTERM, _stop)
     signal.signal(signal.SIGINT, _stop)
 
     skip = {m for m in METHODS if getattr(args, "skip_" + m)}
+    args._reused = {}
+    if args.reuse_json:
+        with open(args.reuse_json) as f:
+            for res in json.load(f):
+                for row in res["rows"]:
+                    if row["method"] in args.reuse_methods and row["method"] not in skip:
+                        args._reused[(res["mesh"], row["method"])] = {k: v for k, v in row.items() if k != "method"}
     methods = [m for m in METHODS if m not in skip]
     floor = run_measured(["true"], 60)
     MEMORY_FLOOR_MB[0] = floor.peak_mb or 0.0
@@ -597,7 +731,13 @@ def main():
             parts += ["## %s" % res["mesh"], "",
                       "L = %.4f, bounding-box diagonal %.2f." % (res["target_edge_length"], res["bbox_diagonal"]),
                       "", mesh_table(res), ""]
+            stages = stage_table(res)
+            if stages:
+                parts += [stages, ""]
             notes = [(METHOD_LABELS[r["method"]], r["status"]) for r in res["rows"] if r.get("status", "ok") != "ok"]
+            notes += [(METHOD_LABELS[r["method"]], "taken from %s (not re-run)" % os.path.basename(args.reuse_json or
+                                                                                                "an earlier run"))
+                      for r in res["rows"] if r.get("reused")]
             if notes:
                 parts += ["Not measured: " + "; ".join("%s: %s" % n for n in notes), ""]
         with open(args.out, "w") as f:
