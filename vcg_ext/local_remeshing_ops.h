@@ -89,7 +89,7 @@ struct LocalOpsGuards {
   /// maxAngleDeg) than the faces they replace had: an improving edit may then not spread a bad
   /// angle over more faces. For stages that promise "no new angle below the guard".
   bool noMoreBadFaces = false;
-  double gridCellFactor = 1.0;         ///< intersection grid cell size, in target edge lengths
+  double gridCellFactor = 1.0; ///< intersection grid cell size, in target edge lengths
 };
 
 namespace local_ops_detail {
@@ -224,7 +224,16 @@ public:
   /// of its own faces, kept when that face's corner is exactly the vertex; the other vertices
   /// get a global closest-point search. Returns false (mesh
   /// untouched except for the adjacency) with a message when a precondition fails.
-  bool Init(std::string* error = nullptr, bool meshIsReference = false, bool topologyReady = false);
+  /// lazyFootpoints: find no footpoint now; the caller calls EnsureFootpoint on every vertex of
+  /// the faces an operation will touch before it (for stages that edit only a few places of a
+  /// large mesh, where the global search for every vertex would cost more than the edits).
+  bool Init(std::string* error = nullptr, bool meshIsReference = false, bool topologyReady = false,
+            bool lazyFootpoints = false);
+  /// Finds v's footpoint if Init(lazyFootpoints) left it unknown (no-op otherwise).
+  void EnsureFootpoint(const VertexType& v) {
+    int& foot = foot_[VIndex(v)];
+    if (foot == kUnknownFoot) foot = ref_.ProjectGlobal(Pos(&v)).face;
+  }
 
   /// The topology part of Init, usable on its own before anything costly is built: recomputes
   /// FF and VF adjacency and checks that m is a 2-manifold, consistently oriented mesh without
@@ -355,8 +364,8 @@ private:
     double cosMaxAngle = 1;  ///< cos of the largest angle (min over faces)
     double cosNormal = 1;    ///< cos of the largest deviation from the reference normal
     double cosFold = 1;      ///< cos of the largest angle between adjacent normals
-    int smallFaces = 0; ///< faces with an angle below Guards::minAngleDeg
-    int largeFaces = 0; ///< faces with an angle above Guards::maxAngleDeg
+    int smallFaces = 0;      ///< faces with an angle below Guards::minAngleDeg
+    int largeFaces = 0;      ///< faces with an angle above Guards::maxAngleDeg
   };
 
   std::size_t VIndex(const VertexType& v) const { return std::size_t(&v - &m_.vert[0]); }
@@ -424,8 +433,9 @@ private:
   double minArea2_ = 0; ///< squared (2 * area) threshold
   double tol_ = 0;      ///< snap distance of the intersection predicates
 
-  std::vector<int> foot_;            ///< per vertex: reference face of its footpoint
-  std::vector<std::uint8_t> locked_; ///< per vertex
+  std::vector<int> foot_;                 ///< per vertex: reference face of its footpoint
+  static constexpr int kUnknownFoot = -2; ///< foot_ of a vertex whose footpoint Init left to find
+  std::vector<std::uint8_t> locked_;      ///< per vertex
   std::vector<std::uint32_t> vertStamp_, faceStamp_;
   std::uint32_t stamp_ = 0;
   std::vector<std::size_t> freeVerts_, freeFaces_;
@@ -619,7 +629,8 @@ bool LocalRemeshingOps<MeshType>::PrepareTopology(MeshType& m, std::string* erro
 }
 
 template <class MeshType>
-bool LocalRemeshingOps<MeshType>::Init(std::string* error, bool meshIsReference, bool topologyReady) {
+bool LocalRemeshingOps<MeshType>::Init(std::string* error, bool meshIsReference, bool topologyReady,
+                                       bool lazyFootpoints) {
   auto fail = [&](const std::string& message) {
     if (error) *error = message;
     return false;
@@ -668,10 +679,15 @@ bool LocalRemeshingOps<MeshType>::Init(std::string* error, bool meshIsReference,
       needsSearch[i] = 0;
     }
   }
-  ParallelFor(m_.vert.size(), threads_, [&](std::size_t begin, std::size_t end, int) {
-    for (std::size_t i = begin; i < end; ++i)
-      if (needsSearch[i]) foot_[i] = ref_.ProjectGlobal(Pos(&m_.vert[i])).face;
-  });
+  if (lazyFootpoints) {
+    for (std::size_t i = 0; i < m_.vert.size(); ++i)
+      if (needsSearch[i]) foot_[i] = kUnknownFoot;
+  } else {
+    ParallelFor(m_.vert.size(), threads_, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t i = begin; i < end; ++i)
+        if (needsSearch[i]) foot_[i] = ref_.ProjectGlobal(Pos(&m_.vert[i])).face;
+    });
+  }
 
   grid_.Reset(guards_.gridCellFactor * L_, rb.min);
   grid_.Resize(m_.face.size());
