@@ -234,6 +234,18 @@ public:
     int& foot = foot_[VIndex(v)];
     if (foot == kUnknownFoot) foot = ref_.ProjectGlobal(Pos(&v)).face;
   }
+  /// EnsureFootpoint on every vertex within `rings` rings of v (rings = 2 covers every vertex a
+  /// split, collapse, flip or move of an edge or face at v, or a disk of stars around it, touches).
+  void EnsureFootpointsAround(const VertexType& v, int rings = 2) {
+    EnsureFootpoint(v);
+    if (rings <= 0 || v.cVFp() == nullptr) return;
+    for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&v)); !it.End(); ++it)
+      for (int k = 1; k < 3; ++k) EnsureFootpointsAround(*it.F()->V((it.I() + k) % 3), rings - 1);
+  }
+  /// EnsureFootpointsAround each corner of f.
+  void EnsureFootpointsAround(const FaceType& f, int rings = 2) {
+    for (int k = 0; k < 3; ++k) EnsureFootpointsAround(*f.cV(k), rings);
+  }
 
   /// The topology part of Init, usable on its own before anything costly is built: recomputes
   /// FF and VF adjacency and checks that m is a 2-manifold, consistently oriented mesh without

@@ -142,7 +142,7 @@ public:
     LocalOpsGuards guards = params.guards;
     guards.minAngleDeg = params.minAngleDeg;
     Ops ops(m, reference, L, guards, params.threads);
-    if (!ops.Init(&error, false, true)) return finish(false, refused + error);
+    if (!ops.Init(&error, false, true, /*lazyFootpoints=*/true)) return finish(false, refused + error);
     Session session(ops, params, L);
     session.Run(r);
     r.refused = ops.Stats().Refused();
@@ -310,6 +310,8 @@ private:
     }
 
     bool Laplacian(std::size_t vi) {
+      ops_.EnsureFootpointsAround(m_.vert[vi]); // lazy footpoints (Init)
+
       VertexType& v = m_.vert[vi];
       if (v.IsD() || v.VFp() == nullptr || ops_.IsLocked(v) || ops_.IsBoundaryVertex(v)) return false;
       const Point p0 = P(&v);
@@ -336,6 +338,8 @@ private:
 
     /// Flips the edge of fi whose flip improves its two triangles most.
     bool Flip(std::size_t fi) {
+      ops_.EnsureFootpointsAround(m_.face[fi]); // lazy footpoints (Init)
+
       FaceType& f = m_.face[fi];
       int bestEdge = -1;
       Shape best;
@@ -359,6 +363,8 @@ private:
 
     /// Collapses the shortest edge of fi, one end point staying, when that improves the region.
     bool Collapse(std::size_t fi) {
+      ops_.EnsureFootpointsAround(m_.face[fi]); // lazy footpoints (Init)
+
       FaceType& f = m_.face[fi];
       int z = 0;
       double shortest = std::numeric_limits<double>::infinity();
@@ -403,6 +409,7 @@ private:
     /// Splits the longest edge of obtuse face fi when that improves the two triangles; returns the
     /// new vertex's index or -1.
     long Split(std::size_t fi) {
+      ops_.EnsureFootpointsAround(m_.face[fi]); // lazy footpoints (Init)
       FaceType& f = m_.face[fi];
       int z = 0;
       double longest = -1;

@@ -157,7 +157,7 @@ public:
     LocalOpsGuards guards = params.guards;
     guards.minAngleDeg = params.minAngleDeg;
     Ops ops(m, reference, L, guards, params.threads);
-    if (!ops.Init(&error, false, true)) return finish(false, refused + error);
+    if (!ops.Init(&error, false, true, /*lazyFootpoints=*/true)) return finish(false, refused + error);
     Session session(ops, params);
     session.Run(r);
     r.refused = ops.Stats().Refused();
@@ -303,6 +303,8 @@ private:
     /// Moves vertex vi to the best sample of its feasible disc, when that lowers the largest angle
     /// of its star without a new small angle.
     bool Translate(std::size_t vi) {
+      ops_.EnsureFootpointsAround(m_.vert[vi]); // lazy footpoints (Init)
+
       VertexType& v = m_.vert[vi];
       if (v.IsD() || v.VFp() == nullptr || ops_.IsLocked(v) || ops_.IsBoundaryVertex(v)) return false;
       const Point p0 = P(&v);
@@ -359,6 +361,8 @@ private:
 
     /// Pentagon point insertion around obtuse face fi (see the file comment).
     bool InsertInPentagon(std::size_t fi) {
+      ops_.EnsureFootpointsAround(m_.face[fi]); // lazy footpoints (Init)
+
       FaceType& f = m_.face[fi];
       const int z = LongestEdge(f, -1);
       FacePointer g = f.FFp(z);

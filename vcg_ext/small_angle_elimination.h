@@ -156,7 +156,8 @@ public:
     LocalOpsGuards guards = params.guards;
     guards.minAngleDeg = params.minAngleDeg;
     Ops ops(m, reference, L, guards, params.threads);
-    if (!ops.Init(&error, false, true)) return finish(false, "small-angle elimination refused: " + error);
+    if (!ops.Init(&error, false, true, /*lazyFootpoints=*/true))
+      return finish(false, "small-angle elimination refused: " + error);
     Session session(ops, params, L);
     session.Run(r);
     double angleMin = 0;
@@ -316,6 +317,8 @@ private:
     // --- 1. Needle collapse ----------------------------------------------------------------------
 
     bool Collapse(std::size_t fi) {
+      ops_.EnsureFootpointsAround(m_.face[fi]); // lazy footpoints (Init)
+
       FaceType& f = m_.face[fi];
       int z = 0;
       double shortest = std::numeric_limits<double>::infinity();
@@ -378,6 +381,8 @@ private:
 
     /// Flips the edge of face fi whose flip raises the smallest angle of the two triangles most.
     bool FlipFace(std::size_t fi) {
+      ops_.EnsureFootpointsAround(m_.face[fi]); // lazy footpoints (Init)
+
       FaceType& f = m_.face[fi];
       int bestEdge = -1;
       double bestMin = -1;
@@ -402,6 +407,8 @@ private:
     /// Moves vertex vi to its Laplacian position, or else to the best nearby position, when that
     /// improves its star (see Improves).
     bool Translate(std::size_t vi) {
+      ops_.EnsureFootpointsAround(m_.vert[vi]); // lazy footpoints (Init)
+
       VertexType& v = m_.vert[vi];
       if (v.IsD() || v.VFp() == nullptr || ops_.IsLocked(v) || ops_.IsBoundaryVertex(v)) return false;
       const Point p0 = P(&v);
@@ -458,6 +465,8 @@ private:
     /// Deletes a corner of bad face fi (the one at its smallest angle first) and retriangulates its
     /// hole with the max-min-angle triangulation, when that improves the region.
     bool Refill(std::size_t fi, Result& r) {
+      ops_.EnsureFootpointsAround(m_.face[fi]); // lazy footpoints (Init)
+
       std::array<std::pair<double, std::size_t>, 3> corners;
       {
         const FaceType& f = m_.face[fi];

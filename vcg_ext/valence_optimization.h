@@ -148,12 +148,7 @@ private:
       return ops.IsBoundaryVertex(v) ? std::abs(val - 4) > 1 : (val < 5 || val > 7);
     }
     /// Footpoints of every vertex an edit around v can touch (its 2-ring).
-    void EnsureFootpoints(VertexPointer v) {
-      for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it)
-        for (int k = 0; k < 3; ++k)
-          for (vcg::face::VFIterator<FaceType> jt(it.F()->V(k)); !jt.End(); ++jt)
-            for (int j = 0; j < 3; ++j) ops.EnsureFootpoint(*jt.F()->V(j));
-    }
+    void EnsureFootpoints(VertexPointer v) { ops.EnsureFootpointsAround(*v, 2); }
     bool ImproveByFlipOrCollapse(VertexPointer v);
     bool RemoveAndRefill(VertexPointer v);
     bool Refill(const std::vector<FacePointer>& faces);
