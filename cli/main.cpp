@@ -88,6 +88,7 @@ struct RemeshOptions {
   double areaFactor = 9;
   std::string jsonPath;
   bool quiet = false;
+  bool checkEachStage = false;
 };
 
 int RunRemesh(const std::string& input, const std::string& output, const RemeshOptions& options) {
@@ -101,6 +102,7 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.targetEdgeLength = options.targetLength;
   params.seed = options.seed;
   params.threads = options.threads;
+  params.intersectionsEachStage = options.checkEachStage;
   params.cvt.iterations = options.cvtIterations;
   params.segment.patchCount = options.patches;
   params.valence.minAngleDeg = params.small.minAngleDeg = params.obtuse.minAngleDeg =
@@ -235,6 +237,8 @@ int main(int argc, char** argv) {
   remesh->add_option("--json", remeshOptions.jsonPath,
                      "Also write the per-stage figures as JSON to this file");
   remesh->add_flag("--quiet", remeshOptions.quiet, "No progress lines on stderr");
+  remesh->add_flag("--check-each-stage", remeshOptions.checkEachStage,
+                   "Count self-intersections after every stage (default: input and output only)");
 
   try {
     app.parse(argc, argv);

@@ -545,6 +545,9 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
   if (params.cvt.iterations < 0) return fail("Lloyd iterations must be 0 or more");
   if (params.targetEdgeLength < 0) return fail("Target edge length must be 0 (automatic) or more");
 
+  // Self-intersections are counted before and after, not between stages (the slowest figure;
+  // every edit already refuses new intersections).
+  params.intersectionsEachStage = false;
   molremesh::MeshD work;
   molremesh::CopyTriangles(work, mm.cm);
   const molremesh::PipelineResult result = Pipeline::Do(
