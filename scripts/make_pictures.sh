@@ -130,7 +130,15 @@ capture() { # PLY MODE PNG
  <RasterGroup/>
 </MeshLabProject>
 MLP
-  xvfb-run -a -s "-screen 0 1280x960x24" bash "$0" --capture "$project" "$work/raw.png" "$zoom"
+  # xvfb-run -a can lose the race for a display number to another X server starting at the same
+  # time ("could not connect to display"): try again a few times.
+  local attempt
+  for attempt in 1 2 3; do
+    xvfb-run -a -s "-screen 0 1280x960x24" bash "$0" --capture "$project" "$work/raw.png" "$zoom" && break
+    [ "$attempt" -lt 3 ] || { echo "make_pictures: MeshLab capture failed 3 times" >&2; exit 1; }
+    echo "make_pictures: capture failed, retrying" >&2
+    sleep 2
+  done
   # The 3D view is the window below the menu and tool bars (y 70) above the status bar (34 px);
   # keep its middle 1000 px, where the mesh is centered.
   convert "$work/raw.png" -crop 1000x850+140+72 +repage -resize "${width}x" -strip \
