@@ -133,20 +133,22 @@ inline LocalOpsGuards RarDefaultSplitGuards() {
 }
 
 /// Guards of the snapping moves of Finalize (a vertex moved onto an input vertex the remeshed
-/// surface cuts off): angles between 36 and 100 degrees, folds and normals as loose as the
+/// surface cuts off): angles between 36 and 89.5 degrees (no new obtuse face: the snapped
+/// vertex stays locked through the last repair pass), folds and normals as loose as the
 /// repair pass allows on sharp creases (the input vertices far from the result sit on cusps and
 /// spikes).
 inline LocalOpsGuards RarDefaultSnapGuards() {
   LocalOpsGuards g;
   g.minAngleDeg = 36.0;
-  g.maxAngleDeg = 100.0;
+  g.maxAngleDeg = 89.5;
   g.maxFoldAngleDeg = 150.0;
   g.maxNormalDeviationDeg = 90.0;
   return g;
 }
 
 /// Guards of the snapping moves onto input vertices farther than Params::snapLooseTolerance:
-/// angles down to 25 degrees (the repair pass then reshapes the neighbourhood around the tip).
+/// angles from 25 to 120 degrees (the repair pass then reshapes the neighbourhood around the
+/// tip; an obtuse face may remain next to the snapped vertex).
 inline LocalOpsGuards RarDefaultSnapLooseGuards() {
   LocalOpsGuards g = RarDefaultSnapGuards();
   g.minAngleDeg = 25.0;
