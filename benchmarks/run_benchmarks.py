@@ -738,11 +738,12 @@ def main():
             if stages:
                 parts += [stages, ""]
             notes = [(METHOD_LABELS[r["method"]], r["status"]) for r in res["rows"] if r.get("status", "ok") != "ok"]
-            notes += [(METHOD_LABELS[r["method"]], "taken from %s (not re-run)" % os.path.basename(args.reuse_json or
-                                                                                                "an earlier run"))
-                      for r in res["rows"] if r.get("reused")]
             if notes:
                 parts += ["Not measured: " + "; ".join("%s: %s" % n for n in notes), ""]
+            reused = [METHOD_LABELS[r["method"]] for r in res["rows"] if r.get("reused")]
+            if reused:
+                parts += ["Rows not re-run (taken from an earlier run's JSON, same programs and parameters): " +
+                          ", ".join(reused) + ".", ""]
         with open(args.out, "w") as f:
             f.write("\n".join(parts))
         print("run_benchmarks: tables written to %s" % args.out, file=sys.stderr)
