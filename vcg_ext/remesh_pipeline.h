@@ -174,15 +174,6 @@ public:
       result.message = check.message;
       return result;
     }
-    // A surface to remesh needs at least a tetrahedron's 4 faces; fewer (a lone triangle, a
-    // pair) are refused with a message rather than passed through unchanged.
-    if (m.fn < kMinFaces) {
-      result.ok = false;
-      result.message = "the mesh has only " + std::to_string(m.fn) + " face" + (m.fn == 1 ? "" : "s") +
-                       ": too few to remesh (a closed surface has at least " + std::to_string(kMinFaces) +
-                       ")";
-      return result;
-    }
     typename MeshQuality<MeshType>::Params qualityParams;
     result.input = MeshQuality<MeshType>::Compute(m, qualityParams);
 
@@ -227,6 +218,13 @@ public:
       vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
       vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
 
+      // A surface to remesh needs at least a tetrahedron's 4 faces; fewer (a lone triangle, a
+      // pair) are refused with a message rather than passed through unchanged. (Cleaning runs
+      // first, so an all-degenerate mesh is reported as such.)
+      if (stage != PipelineStage::Clean && m.fn < kMinFaces)
+        return fail(record, "the mesh has only " + std::to_string(m.fn) + " face" + (m.fn == 1 ? "" : "s") +
+                                ": too few to remesh (a closed surface has at least " +
+                                std::to_string(kMinFaces) + ")");
       switch (stage) {
       case PipelineStage::Clean: {
         const auto r = CleanRawMesh<MeshType>::Do(m, params.clean);
