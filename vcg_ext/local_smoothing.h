@@ -34,7 +34,9 @@
 
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
+#include <vcg_ext/local_stage.h>
 #include <vcg_ext/reference_surface.h>
+#include <vcg_ext/triangle_angles.h>
 
 #include <algorithm>
 #include <array>
@@ -62,12 +64,7 @@ public:
 
   /// Guards of the stage's edits: new angles below 30 degrees only where the region's smallest
   /// angle improves; the stage judges the largest angle itself.
-  static LocalOpsGuards DefaultGuards() {
-    LocalOpsGuards g;
-    g.minAngleDeg = 30.0;
-    g.maxAngleDeg = 180.0;
-    return g;
-  }
+  static LocalOpsGuards DefaultGuards() { return GuardsWithAngleBounds(30.0, 180.0); }
 
   struct Params {
     double targetEdgeLength = 0; ///< L; 0 = mean edge length of the mesh
@@ -112,12 +109,7 @@ public:
   static Result Do(MeshType& m, const Reference& reference, const Params& params) {
     const auto start = std::chrono::steady_clock::now();
     Result r;
-    auto finish = [&](bool ok, const std::string& message) {
-      r.ok = ok;
-      r.message = message;
-      r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      return r;
-    };
+    auto finish = [&](bool ok, const std::string& message) { return FinishStage(r, ok, message, start); };
     const std::string refused = "local smoothing refused: ";
     const InputCheck check = CheckTriangleMeshInput(m);
     if (!check.ok) return finish(false, refused + check.message);
@@ -125,12 +117,10 @@ public:
         !(params.maxAngleDeg > 60 && params.maxAngleDeg <= 180))
       return finish(false, refused + "need 0 <= minAngleDeg < 60 < maxAngleDeg <= 180");
     if (params.iterations < 0) return finish(false, refused + "negative iteration count");
-    if (reference.Empty()) return finish(false, refused + "the reference surface is empty");
+    double L = 0;
     std::string error;
-    if (!Ops::PrepareTopology(m, &error)) return finish(false, refused + error);
-    double L = params.targetEdgeLength;
-    if (!(L > 0)) L = MeanEdgeLength(m);
-    if (!(L > 0) || !std::isfinite(L)) return finish(false, refused + "no valid target edge length");
+    if (!PrepareLocalStage(m, reference, params.targetEdgeLength, L, error))
+      return finish(false, refused + error);
 
     std::size_t small = 0, obtuse = 0;
     r.badBefore = Measure(m, params, small, obtuse, r.angleMinBefore, r.angleMaxBefore);
@@ -154,31 +144,8 @@ public:
                             std::to_string(r.badAfter) + " bad faces");
   }
 
-  /// Smallest and largest angle (degrees) of triangle (a, b, c).
-  static void Angles(const Point& a, const Point& b, const Point& c, double& minDeg, double& maxDeg) {
-    const double la = (b - c).SquaredNorm(), lb = (c - a).SquaredNorm(), lc = (a - b).SquaredNorm();
-    auto at = [](double opposite, double s1, double s2) {
-      const double d = 2.0 * std::sqrt(s1 * s2);
-      return d > 0 ? std::acos(std::clamp((s1 + s2 - opposite) / d, -1.0, 1.0)) * (180.0 / kPi) : 0.0;
-    };
-    const double A = at(la, lb, lc), B = at(lb, lc, la), C = at(lc, la, lb);
-    minDeg = std::min({A, B, C});
-    maxDeg = std::max({A, B, C});
-  }
-
 private:
-  static constexpr double kPi = 3.14159265358979323846;
   static Point P(const VertexType* v) { return Ops::ToPoint(v->cP()); }
-
-  static double MeanEdgeLength(const MeshType& m) {
-    double sum = 0;
-    std::size_t n = 0;
-    for (const FaceType& f : m.face) {
-      if (f.IsD()) continue;
-      for (int e = 0; e < 3; ++e) sum += (P(f.cV(e)) - P(f.cV((e + 1) % 3))).Norm(), ++n;
-    }
-    return n ? sum / double(n) : 0.0;
-  }
 
   static std::size_t Measure(const MeshType& m, const Params& p, std::size_t& small, std::size_t& obtuse,
                              double& angleMin, double& angleMax) {
@@ -189,7 +156,7 @@ private:
     for (const FaceType& f : m.face) {
       if (f.IsD()) continue;
       double lo, hi;
-      Angles(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), lo, hi);
+      FaceAngleRange(f, lo, hi);
       angleMin = std::min(angleMin, lo);
       angleMax = std::max(angleMax, hi);
       const bool s = lo < p.minAngleDeg, o = hi >= p.maxAngleDeg;
@@ -207,7 +174,7 @@ private:
     double excess = 0; ///< worst max(largest - maxAngle, minAngle - smallest, 0)
     void Add(const Point& a, const Point& b, const Point& c, const Params& p) {
       double lo, hi;
-      Angles(a, b, c, lo, hi);
+      TriangleAngleRange(a, b, c, lo, hi);
       minDeg = std::min(minDeg, lo);
       maxDeg = std::max(maxDeg, hi);
       const bool s = lo < p.minAngleDeg, o = hi >= p.maxAngleDeg;

@@ -41,7 +41,9 @@
 
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
+#include <vcg_ext/local_stage.h>
 #include <vcg_ext/reference_surface.h>
+#include <vcg_ext/triangle_angles.h>
 
 #include <algorithm>
 #include <array>
@@ -69,12 +71,7 @@ public:
 
   /// Guards of the stage's edits: new angles below 30 degrees only where the region's smallest
   /// angle improves; the largest angle is the stage's own business (checked before each edit).
-  static LocalOpsGuards DefaultGuards() {
-    LocalOpsGuards g;
-    g.minAngleDeg = 30.0;
-    g.maxAngleDeg = 180.0;
-    return g;
-  }
+  static LocalOpsGuards DefaultGuards() { return GuardsWithAngleBounds(30.0, 180.0); }
 
   struct Params {
     double targetEdgeLength = 0; ///< L; 0 = mean edge length of the mesh
@@ -120,12 +117,7 @@ public:
   static Result Do(MeshType& m, const Reference& reference, const Params& params) {
     const auto start = std::chrono::steady_clock::now();
     Result r;
-    auto finish = [&](bool ok, const std::string& message) {
-      r.ok = ok;
-      r.message = message;
-      r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      return r;
-    };
+    auto finish = [&](bool ok, const std::string& message) { return FinishStage(r, ok, message, start); };
     const std::string refused = "obtuse reduction refused: ";
     const InputCheck check = CheckTriangleMeshInput(m);
     if (!check.ok) return finish(false, refused + check.message);
@@ -138,12 +130,10 @@ public:
     if (params.iterationsPerThreshold < 0 || params.discRings < 1 || params.discDirections < 1 ||
         params.pentagonSamples < 1 || !(params.discRadiusFactor > 0))
       return finish(false, refused + "iteration and sampling counts must be positive");
-    if (reference.Empty()) return finish(false, refused + "the reference surface is empty");
+    double L = 0;
     std::string error;
-    if (!Ops::PrepareTopology(m, &error)) return finish(false, refused + error);
-    double L = params.targetEdgeLength;
-    if (!(L > 0)) L = MeanEdgeLength(m);
-    if (!(L > 0) || !std::isfinite(L)) return finish(false, refused + "no valid target edge length");
+    if (!PrepareLocalStage(m, reference, params.targetEdgeLength, L, error))
+      return finish(false, refused + error);
 
     const double lowest = *std::min_element(params.thresholdsDeg.begin(), params.thresholdsDeg.end());
     std::size_t above = 0;
@@ -169,31 +159,9 @@ public:
                             std::to_string(r.obtuseAfter) + " obtuse faces");
   }
 
-  /// Smallest and largest angle (degrees) of triangle (a, b, c).
-  static void Angles(const Point& a, const Point& b, const Point& c, double& minDeg, double& maxDeg) {
-    const double la = (b - c).SquaredNorm(), lb = (c - a).SquaredNorm(), lc = (a - b).SquaredNorm();
-    auto at = [](double opposite, double s1, double s2) {
-      const double d = 2.0 * std::sqrt(s1 * s2);
-      return d > 0 ? std::acos(std::clamp((s1 + s2 - opposite) / d, -1.0, 1.0)) * (180.0 / kPi) : 0.0;
-    };
-    const double A = at(la, lb, lc), B = at(lb, lc, la), C = at(lc, la, lb);
-    minDeg = std::min({A, B, C});
-    maxDeg = std::max({A, B, C});
-  }
-
 private:
   static constexpr double kPi = 3.14159265358979323846;
   static Point P(const VertexType* v) { return Ops::ToPoint(v->cP()); }
-
-  static double MeanEdgeLength(const MeshType& m) {
-    double sum = 0;
-    std::size_t n = 0;
-    for (const FaceType& f : m.face) {
-      if (f.IsD()) continue;
-      for (int e = 0; e < 3; ++e) sum += (P(f.cV(e)) - P(f.cV((e + 1) % 3))).Norm(), ++n;
-    }
-    return n ? sum / double(n) : 0.0;
-  }
 
   static void Measure(const MeshType& m, double threshold, std::size_t& obtuse, std::size_t& above,
                       double& angleMin, double& angleMax) {
@@ -203,7 +171,7 @@ private:
     for (const FaceType& f : m.face) {
       if (f.IsD()) continue;
       double lo, hi;
-      Angles(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), lo, hi);
+      FaceAngleRange(f, lo, hi);
       angleMin = std::min(angleMin, lo);
       angleMax = std::max(angleMax, hi);
       if (hi >= 90.0) ++obtuse;
@@ -212,16 +180,7 @@ private:
   }
 
   /// Worst angles and number of small-angle triangles of a set of triangles.
-  struct Shape {
-    double minDeg = 180.0, maxDeg = 0.0;
-    int small = 0;
-    void Add(const Point& a, const Point& b, const Point& c, double threshold) {
-      double lo, hi;
-      Angles(a, b, c, lo, hi);
-      minDeg = std::min(minDeg, lo);
-      maxDeg = std::max(maxDeg, hi);
-      if (lo < threshold) ++small;
-    }
+  struct Shape : AngleTally {
     /// Better for the stage: smaller largest angle first, then larger smallest angle.
     bool BetterThan(const Shape& o) const {
       if (maxDeg != o.maxDeg) return maxDeg < o.maxDeg;
@@ -251,7 +210,7 @@ private:
 
     double MaxAngle(const FaceType& f) const {
       double lo, hi;
-      Angles(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), lo, hi);
+      FaceAngleRange(f, lo, hi);
       return hi;
     }
     /// Faces with a largest angle above t (>= when t is 90: obtuse), worst first.

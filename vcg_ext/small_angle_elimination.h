@@ -40,7 +40,9 @@
 
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
+#include <vcg_ext/local_stage.h>
 #include <vcg_ext/reference_surface.h>
+#include <vcg_ext/triangle_angles.h>
 
 #include <algorithm>
 #include <array>
@@ -68,12 +70,7 @@ public:
 
   /// Guards of the stage's edits: new angles below 30 degrees or above 120 degrees only where the
   /// region's worst angle improves (Khan et al.'s angle bounds).
-  static LocalOpsGuards DefaultGuards() {
-    LocalOpsGuards g;
-    g.minAngleDeg = 30.0;
-    g.maxAngleDeg = 120.0;
-    return g;
-  }
+  static LocalOpsGuards DefaultGuards() { return GuardsWithAngleBounds(30.0, 120.0); }
 
   struct Params {
     double targetEdgeLength = 0;    ///< L; 0 = mean edge length of the mesh
@@ -126,26 +123,17 @@ public:
   static Result Do(MeshType& m, const Reference& reference, const Params& params) {
     const auto start = std::chrono::steady_clock::now();
     Result r;
-    auto finish = [&](bool ok, const std::string& message) {
-      r.ok = ok;
-      r.message = message;
-      r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      return r;
-    };
+    auto finish = [&](bool ok, const std::string& message) { return FinishStage(r, ok, message, start); };
+    const std::string refused = "small-angle elimination refused: ";
     const InputCheck check = CheckTriangleMeshInput(m);
-    if (!check.ok) return finish(false, "small-angle elimination refused: " + check.message);
+    if (!check.ok) return finish(false, refused + check.message);
     if (!(params.minAngleDeg > 0 && params.minAngleDeg < 60))
-      return finish(false, "small-angle elimination refused: minAngleDeg must be in (0, 60)");
-    if (params.maxIterations < 0)
-      return finish(false, "small-angle elimination refused: negative maxIterations");
-    if (reference.Empty())
-      return finish(false, "small-angle elimination refused: the reference surface is empty");
+      return finish(false, refused + "minAngleDeg must be in (0, 60)");
+    if (params.maxIterations < 0) return finish(false, refused + "negative maxIterations");
+    double L = 0;
     std::string error;
-    if (!Ops::PrepareTopology(m, &error)) return finish(false, "small-angle elimination refused: " + error);
-    double L = params.targetEdgeLength;
-    if (!(L > 0)) L = MeanEdgeLength(m);
-    if (!(L > 0) || !std::isfinite(L))
-      return finish(false, "small-angle elimination refused: no valid target edge length");
+    if (!PrepareLocalStage(m, reference, params.targetEdgeLength, L, error))
+      return finish(false, refused + error);
 
     r.smallFacesBefore = CountSmall(m, params.minAngleDeg, r.angleMinBefore);
     if (r.smallFacesBefore == 0) { // the fast path: nothing to do
@@ -182,32 +170,10 @@ public:
                             std::to_string(params.minAngleDeg));
   }
 
-  /// Smallest and largest angle (degrees) of triangle (a, b, c).
-  static void Angles(const Point& a, const Point& b, const Point& c, double& minDeg, double& maxDeg) {
-    const double la = (b - c).SquaredNorm(), lb = (c - a).SquaredNorm(), lc = (a - b).SquaredNorm();
-    auto at = [](double opposite, double s1, double s2) {
-      const double d = 2.0 * std::sqrt(s1 * s2);
-      return d > 0 ? std::acos(std::clamp((s1 + s2 - opposite) / d, -1.0, 1.0)) * (180.0 / kPi) : 0.0;
-    };
-    const double A = at(la, lb, lc), B = at(lb, lc, la), C = at(lc, la, lb);
-    minDeg = std::min({A, B, C});
-    maxDeg = std::max({A, B, C});
-  }
-
 private:
   static constexpr double kPi = 3.14159265358979323846;
 
   static Point P(const VertexType* v) { return Ops::ToPoint(v->cP()); }
-
-  static double MeanEdgeLength(const MeshType& m) {
-    double sum = 0;
-    std::size_t n = 0;
-    for (const FaceType& f : m.face) {
-      if (f.IsD()) continue;
-      for (int e = 0; e < 3; ++e) sum += (P(f.cV(e)) - P(f.cV((e + 1) % 3))).Norm(), ++n;
-    }
-    return n ? sum / double(n) : 0.0;
-  }
 
   static std::size_t CountSmall(const MeshType& m, double minAngleDeg, double& angleMin) {
     std::size_t n = 0;
@@ -215,7 +181,7 @@ private:
     for (const FaceType& f : m.face) {
       if (f.IsD()) continue;
       double lo, hi;
-      Angles(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), lo, hi);
+      FaceAngleRange(f, lo, hi);
       angleMin = std::min(angleMin, lo);
       if (lo < minAngleDeg) ++n;
     }
@@ -223,17 +189,7 @@ private:
   }
 
   /// Worst angles and number of bad triangles of a set of triangles.
-  struct Shape {
-    double minDeg = 180.0, maxDeg = 0.0;
-    int small = 0;
-    void Add(const Point& a, const Point& b, const Point& c, double threshold) {
-      double lo, hi;
-      Angles(a, b, c, lo, hi);
-      minDeg = std::min(minDeg, lo);
-      maxDeg = std::max(maxDeg, hi);
-      if (lo < threshold) ++small;
-    }
-  };
+  using Shape = AngleTally;
 
   class Session {
   public:
@@ -283,7 +239,7 @@ private:
 
     double MinAngle(const FaceType& f) const {
       double lo, hi;
-      Angles(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), lo, hi);
+      FaceAngleRange(f, lo, hi);
       return lo;
     }
     bool IsBad(const FaceType& f) const { return MinAngle(f) < Threshold(); }
@@ -537,7 +493,7 @@ private:
           Key bij = none;
           for (int k = i + 1; k < j; ++k) {
             double lo, hi;
-            Angles(poly[i], poly[k], poly[j], lo, hi);
+            TriangleAngleRange(poly[i], poly[k], poly[j], lo, hi);
             const Key left = best[std::size_t(i * n + k)], right = best[std::size_t(k * n + j)];
             const Key cand(std::min({lo, left.first, right.first}),
                            std::min({-hi, left.second, right.second}));
