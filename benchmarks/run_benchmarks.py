@@ -473,7 +473,7 @@ def bench_mesh(mesh, tools, args, methods, unavailable, work_root):
 COLUMNS = ["method", "faces in", "faces out", "time s", "remesh s", "peak MB", "θmin", "θmax", "Qmin", "V567 %",
            "obtuse %", "% < 30°", "SI pairs", "boundary edges", "Hausdorff/L", "Hausdorff/L cleaned",
            "area change %", "volume change %", "TetGen ok"]
-STAGE_ORDER = ["load", "clean", "cvt", "valence", "segment", "rar", "small", "obtuse", "smooth", "save"]
+STAGE_ORDER = ["load", "clean", "cvt", "valence", "segment", "rar", "small", "obtuse", "smooth", "polish", "save"]
 
 
 def fmt(value, spec):
