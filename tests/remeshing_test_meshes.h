@@ -1,5 +1,6 @@
-// Constructed meshes and validity checks shared by the remeshing-core tests
-// (test_reference_surface, test_local_remeshing_ops, test_cvt_initialization).
+// Constructed meshes and validity checks shared by the tests: the float mesh type MeshF and the
+// mesh builders (test_mesh_quality, test_clean_raw_mesh and the remeshing-core tests), the
+// invariants every remeshing stage keeps (the stage tests, see local_stage_test_helpers.h).
 #pragma once
 
 #include <gtest/gtest.h>

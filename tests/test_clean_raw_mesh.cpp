@@ -20,6 +20,7 @@
 #include <tuple>
 #include <vector>
 
+#include "remeshing_test_meshes.h"
 #include "test_helpers.h"
 
 namespace {
@@ -51,19 +52,9 @@ void EnableAdjacency(MeshO& m) {
 }
 
 /// Unit icosphere (vcglib's Sphere: 20 * 4^subdiv faces, closed, genus 0, outward).
-void MakeSphere(MeshD& m, int subdiv = 2) {
-  m.Clear();
-  vcg::tri::Sphere(m, subdiv);
-  vcg::tri::Allocator<MeshD>::CompactEveryVector(m);
-}
+void MakeSphere(MeshD& m, int subdiv = 2) { molremesh::test::Icosphere(m, subdiv); }
 
-/// Mesh from explicit points and index triples.
-void Build(MeshD& m, const std::vector<Point>& points, const std::vector<std::array<int, 3>>& faces) {
-  m.Clear();
-  vcg::tri::Allocator<MeshD>::AddVertices(m, points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) m.vert[i].P() = points[i];
-  for (const auto& f : faces) vcg::tri::Allocator<MeshD>::AddFace(m, f[0], f[1], f[2]);
-}
+using molremesh::test::MakeMesh; // mesh from explicit points and index triples
 
 /// Copies a mesh as points + index triples (vcg meshes cannot be copied).
 struct Soup {
@@ -146,7 +137,7 @@ TEST(CleanRawMesh, TriangleSoupIsWeldedIntoAClosedSphere) {
     soup.faces.push_back({base, base + 1, base + 2});
   }
   MeshD m;
-  Build(m, soup.points, soup.faces);
+  MakeMesh(m, soup.points, soup.faces);
   const auto inputPositions = Positions(m);
   ASSERT_EQ(Quality::Compute(m).components, s.faces.size());
 
@@ -176,7 +167,7 @@ TEST(CleanRawMesh, MergeToleranceIsRelativeToTheMeanEdgeLength) {
       for (int& v : f)
         if (v == 0 && moved < 2) v = copy, ++moved;
     MeshD m;
-    Build(m, s.points, s.faces);
+    MakeMesh(m, s.points, s.faces);
     const auto r = Clean::Do(m);
     ASSERT_TRUE(r.ok) << r.message;
     if (offset < 1e-6) {
@@ -199,7 +190,7 @@ TEST(CleanRawMesh, DuplicateFacesAreRemoved) {
   s.faces.push_back({s.faces[5][0], s.faces[5][2], s.faces[5][1]});     // reversed
   s.faces.push_back({s.faces[9][1], s.faces[9][2], s.faces[9][0]});     // rotated
   MeshD m;
-  Build(m, s.points, s.faces);
+  MakeMesh(m, s.points, s.faces);
   const auto r = Clean::Do(m);
   ExpectValidResult(m, r);
   EXPECT_EQ(r.removedDuplicateFaces, 3u);
@@ -222,7 +213,7 @@ TEST(CleanRawMesh, ZeroAreaCapInsideAClosedMeshIsFlippedAwayAndTheMeshStaysClose
   s.faces.push_back({c, b, x});
   s.faces.push_back({c, a, b});
   MeshD m;
-  Build(m, s.points, s.faces);
+  MakeMesh(m, s.points, s.faces);
   const molremesh::QualityReport input = Quality::Compute(m);
   ASSERT_EQ(input.degenerateFaces, 1u);
   ASSERT_EQ(input.boundaryEdges, 0u);
@@ -257,7 +248,7 @@ TEST(CleanRawMesh, VanishingEdgeIsCollapsedWithoutMovingAnythingElse) {
   s.faces.push_back({d, a, y});
   for (const double tolerance : {0.0, 1e-6}) {
     MeshD m;
-    Build(m, s.points, s.faces);
+    MakeMesh(m, s.points, s.faces);
     ASSERT_EQ(Quality::Compute(m).degenerateFaces, 2u);
     const auto inputPositions = Positions(m);
     Clean::Params params;
@@ -286,7 +277,7 @@ TEST(CleanRawMesh, FinOnAnEdgeIsRemovedAndTheSphereStaysClosed) {
   s.points.push_back((s.points[a] + s.points[b]) * 1.5); // outside the sphere
   s.faces.push_back({a, b, int(s.points.size()) - 1});  // a third face on edge ab
   MeshD m;
-  Build(m, s.points, s.faces);
+  MakeMesh(m, s.points, s.faces);
   ASSERT_EQ(Quality::Compute(m).nonManifoldEdges, 1u);
   const auto r = Clean::Do(m);
   ExpectValidResult(m, r);
@@ -305,7 +296,7 @@ TEST(CleanRawMesh, TwoTetrahedraSharingAnEdgeBecomeOneClosedManifold) {
   const std::vector<std::array<int, 3>> faces{{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {0, 2, 3},
                                               {0, 4, 1}, {0, 1, 5}, {1, 4, 5}, {0, 5, 4}};
   MeshD m;
-  Build(m, points, faces);
+  MakeMesh(m, points, faces);
   const molremesh::QualityReport input = Quality::Compute(m);
   ASSERT_EQ(input.nonManifoldEdges, 1u);
   ASSERT_GT(input.volume, 0);
@@ -338,7 +329,7 @@ TEST(CleanRawMesh, SpheresTouchingAtAVertexAreSeparatedWithoutTouching) {
   const std::size_t faces = s.faces.size();
   for (std::size_t f = 0; f < faces; ++f) s.faces.push_back({map[s.faces[f][0]], map[s.faces[f][2]], map[s.faces[f][1]]});
   MeshD m;
-  Build(m, s.points, s.faces);
+  MakeMesh(m, s.points, s.faces);
   ASSERT_EQ(Quality::Compute(m).nonManifoldVertices, 1u);
   const auto r = Clean::Do(m);
   ExpectValidResult(m, r);
@@ -377,7 +368,7 @@ TEST(CleanRawMesh, BoundaryPinchIsClosedIntoOneManifoldFan) {
   for (std::size_t f = 0; f < s.faces.size(); ++f)
     if (int(f) != star[0] && int(f) != other) t.faces.push_back(s.faces[f]);
   MeshD m;
-  Build(m, t.points, t.faces);
+  MakeMesh(m, t.points, t.faces);
   const molremesh::QualityReport input = Quality::Compute(m);
   ASSERT_EQ(input.nonManifoldVertices, 1u);
   ASSERT_EQ(input.boundaryEdges, 6u);
@@ -400,7 +391,7 @@ TEST(CleanRawMesh, InvertedFacesAreReorientedAndTheVolumeIsPositive) {
     Soup s = ToSoup(sphere);
     std::swap(s.faces[7][1], s.faces[7][2]);
     MeshD m;
-    Build(m, s.points, s.faces);
+    MakeMesh(m, s.points, s.faces);
     const auto r = Clean::Do(m);
     ExpectValidResult(m, r);
     EXPECT_EQ(r.flippedFacesForOrientation, 1u);
@@ -411,7 +402,7 @@ TEST(CleanRawMesh, InvertedFacesAreReorientedAndTheVolumeIsPositive) {
     Soup s = ToSoup(sphere);
     std::swap(s.faces[0][1], s.faces[0][2]);
     MeshD m;
-    Build(m, s.points, s.faces);
+    MakeMesh(m, s.points, s.faces);
     const auto r = Clean::Do(m);
     ExpectValidResult(m, r);
     EXPECT_EQ(r.flippedFacesForOrientation, 1u);
@@ -422,7 +413,7 @@ TEST(CleanRawMesh, InvertedFacesAreReorientedAndTheVolumeIsPositive) {
     Soup s = ToSoup(sphere);
     for (auto& f : s.faces) std::swap(f[1], f[2]);
     MeshD m;
-    Build(m, s.points, s.faces);
+    MakeMesh(m, s.points, s.faces);
     const auto r = Clean::Do(m);
     ExpectValidResult(m, r);
     EXPECT_EQ(r.flippedComponents, 1u);
@@ -444,7 +435,7 @@ TEST(CleanRawMesh, CavityNormalsPointIntoTheCavity) {
   params.minComponentFraction = 0;
   for (const bool inward : {true, false}) {
     MeshD m;
-    Build(m, s.points, s.faces);
+    MakeMesh(m, s.points, s.faces);
     const double outerVolume = Quality::Compute(outer).volume;
     params.orientCavitiesInward = inward;
     const auto r = Clean::Do(m, params);
@@ -471,7 +462,7 @@ TEST(CleanRawMesh, SmallHoleIsClosedWithGenusZeroAndLargeHoleIsLeftOpen) {
       if (!(capHeight < 0 ? inStar : inCap)) t.faces.push_back(f);
     }
     MeshD m;
-    Build(m, t.points, t.faces);
+    MakeMesh(m, t.points, t.faces);
     const molremesh::QualityReport input = Quality::Compute(m);
     Clean::Params params;
     params.maxHoleEdges = 20;
@@ -507,7 +498,7 @@ TEST(CleanRawMesh, TinyExtraComponentIsRemovedAndCounted) {
     s.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
   for (const double fraction : {0.01, 0.0}) {
     MeshD m;
-    Build(m, s.points, s.faces);
+    MakeMesh(m, s.points, s.faces);
     Clean::Params params;
     params.minComponentFraction = fraction;
     const auto r = Clean::Do(m, params);
@@ -538,7 +529,7 @@ TEST(CleanRawMesh, TheLargestComponentIsNeverRemoved) {
     for (const auto& f : std::vector<std::array<int, 3>>{{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}})
       faces.push_back({f[0] + o, f[1] + o, f[2] + o});
   }
-  Build(m, points, faces);
+  MakeMesh(m, points, faces);
   Clean::Params params;
   params.minComponentFraction = 0.9;
   const auto r = Clean::Do(m, params);
@@ -615,7 +606,7 @@ TEST(CleanRawMesh, RefusesEmptyMeshPointCloudAndNaN) {
 
 TEST(CleanRawMesh, RefusesAllDegenerateMeshesAndBadParameters) {
   MeshD line;
-  Build(line, {Point(0, 0, 0), Point(1, 0, 0), Point(2, 0, 0)}, {{0, 1, 2}});
+  MakeMesh(line, {Point(0, 0, 0), Point(1, 0, 0), Point(2, 0, 0)}, {{0, 1, 2}});
   ExpectRefusedUnchanged(line, "degenerate");
 
   MeshD sphere;

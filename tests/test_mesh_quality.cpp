@@ -15,6 +15,8 @@
 #include <random>
 #include <vector>
 
+#include "remeshing_test_meshes.h"
+
 namespace {
 
 using molremesh::MeshD;
@@ -27,26 +29,9 @@ const double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 // A float mesh shaped like MeshLab's CMeshO, to check that the templates work on float
 // coordinates and give the same figures.
-class VertexF;
-class FaceF;
-struct UsedTypesF : public vcg::UsedTypes<vcg::Use<VertexF>::AsVertexType, vcg::Use<FaceF>::AsFaceType> {};
-class VertexF : public vcg::Vertex<UsedTypesF, vcg::vertex::Coord3f, vcg::vertex::Normal3f, vcg::vertex::BitFlags,
-                                   vcg::vertex::VFAdj, vcg::vertex::Mark> {};
-class FaceF : public vcg::Face<UsedTypesF, vcg::face::VertexRef, vcg::face::Normal3f, vcg::face::BitFlags,
-                               vcg::face::FFAdj, vcg::face::VFAdj, vcg::face::Mark> {};
-class MeshF : public vcg::tri::TriMesh<std::vector<VertexF>, std::vector<FaceF>> {};
-
-/// Mesh from explicit points and index triples (indices may repeat: used for broken inputs).
-/// (vcg meshes can be neither copied nor moved, hence the output parameter.)
-template <class Mesh>
-void MakeMesh(Mesh& m, const std::vector<Point>& points, const std::vector<std::array<int, 3>>& faces) {
-  m.Clear();
-  if (!points.empty()) vcg::tri::Allocator<Mesh>::AddVertices(m, points.size());
-  for (std::size_t i = 0; i < points.size(); ++i)
-    m.vert[i].P() = typename Mesh::CoordType(points[i][0], points[i][1], points[i][2]);
-  for (const auto& f : faces)
-    vcg::tri::Allocator<Mesh>::AddFace(m, &m.vert[f[0]], &m.vert[f[1]], &m.vert[f[2]]);
-}
+using molremesh::test::MeshF;
+// Mesh from explicit points and index triples (indices may repeat: used for broken inputs).
+using molremesh::test::MakeMesh;
 
 /// n x n quads in the z = 0 plane, each split along the same diagonal (interior valence 6).
 /// Quads for which skip(i, j) is true are left out.
@@ -82,10 +67,8 @@ void AddTetrahedron(std::vector<Point>& points, std::vector<std::array<int, 3>>&
   faces.push_back({b + 1, b + 2, b + 3});
 }
 
-void MakeIcosphere(MeshD& m, int subdivisions) {
-  m.Clear();
-  vcg::tri::Sphere(m, subdivisions); // icosahedron, midpoint-subdivided, projected to the unit sphere
-}
+/// Unit icosphere: icosahedron, midpoint-subdivided, projected to the unit sphere.
+void MakeIcosphere(MeshD& m, int subdivisions) { molremesh::test::Icosphere(m, subdivisions); }
 
 int SumHistogram(const molremesh::QualityReport& r) {
   int sum = 0;
