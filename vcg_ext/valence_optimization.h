@@ -160,6 +160,10 @@ private:
   static Point P(const VertexType* v) {
     return Point(double(v->cP()[0]), double(v->cP()[1]), double(v->cP()[2]));
   }
+  /// Smallest and largest angle (degrees) of triangle (a, b, c). Deliberately not
+  /// TriangleAngleRange (triangle_angles.h): this formula (side lengths, third angle = 180 - A - B)
+  /// is the one the stage was validated with; the other's last-bit differences change its refills
+  /// (`--stages clean,valence` on lysozyme_Lys1_msms comes out different).
   static void AngleRange(const Point& a, const Point& b, const Point& c, double& lo, double& hi) {
     const double la = (b - c).Norm(), lb = (c - a).Norm(), lc = (a - b).Norm();
     auto at = [](double opp, double s1, double s2) {
