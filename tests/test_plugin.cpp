@@ -112,7 +112,13 @@ const QString kClean = "Molecular Remesh: Clean Raw Mesh";
 const QString kCvt = "Molecular Remesh: CVT Initialization";
 const QString kSegment = "Molecular Remesh: Random Segmentation";
 const QString kRar = "Molecular Remesh: Patch-wise Adaptive Remeshing";
-const QList<QString> kAllFilters = {kReport, kColor, kClean, kCvt, kSegment, kRar};
+const QString kValence = "Molecular Remesh: Valence Optimization";
+const QString kSmall = "Molecular Remesh: Remove Small Angles";
+const QString kObtuse = "Molecular Remesh: Reduce Obtuse Triangles";
+const QString kSmooth = "Molecular Remesh: Local Smoothing";
+const QString kFull = "Molecular Remesh: Full Pipeline";
+const QList<QString> kAllFilters = {kReport,  kColor, kClean,  kCvt,    kSegment, kRar,
+                                    kValence, kSmall, kObtuse, kSmooth, kFull};
 
 } // namespace
 
@@ -236,6 +242,32 @@ TEST_F(PluginTest, CvtRefusesANonManifoldLayerAndLeavesItUntouched) {
   EXPECT_FALSE(Apply(kCvt, *mm));
   EXPECT_FALSE(plugin->errorMsg().isEmpty());
   EXPECT_TRUE(LayerSnapshot::Of(*mm) == before);
+  document.delMesh(mm);
+}
+
+TEST_F(PluginTest, StageFiltersRefuseANonManifoldLayerAndLeaveItUntouched) {
+  for (const QString& name : {kValence, kSmall, kObtuse, kSmooth}) {
+    MeshModel* mm = AddLayer(Fixture("nonmanifold_fan.ply"));
+    const LayerSnapshot before = LayerSnapshot::Of(*mm);
+    EXPECT_FALSE(Apply(name, *mm)) << name.toStdString();
+    EXPECT_FALSE(plugin->errorMsg().isEmpty()) << name.toStdString();
+    EXPECT_TRUE(LayerSnapshot::Of(*mm) == before) << name.toStdString();
+    document.delMesh(mm);
+  }
+}
+
+TEST_F(PluginTest, FullPipelineGivesEveryAngleWithinTheBoundsAndRegularVertices) {
+  MeshModel* mm = AddLayer(SharedMesh("bpti_1bpi_msms.ply"));
+  ASSERT_TRUE(Apply(kFull, *mm)) << plugin->errorMsg().toStdString();
+  const molremesh::QualityReport after = molremesh::MeshQuality<CMeshO>::Compute(mm->cm);
+  EXPECT_GE(after.angleMin, 30.0);
+  EXPECT_LE(after.angleMax, 120.0);
+  EXPECT_GE(after.v567Percent, 99.8);
+  EXPECT_TRUE(after.isTwoManifold());
+  EXPECT_EQ(after.boundaryEdges, 0u);
+  EXPECT_EQ(after.selfIntersectingPairs, 0u);
+  EXPECT_NE(LogText().find("stage times (s):"), std::string::npos) << "each stage's time is logged";
+  EXPECT_NE(LogText().find("polish"), std::string::npos);
   document.delMesh(mm);
 }
 
