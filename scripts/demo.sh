@@ -48,7 +48,7 @@ for mesh in "${meshes[@]}"; do
   xvfb-run -a meshlabserver -l "$out/${name}_meshlab_full.log" -i "$mesh" -o "$out/${name}_meshlab_remeshed.ply" \
     -s "$repo/meshlabserver_scripts/full_pipeline.mlx" >/dev/null 2>&1
   grep -E "(min angle|max angle|V567|obtuse faces|self-intersecting pairs|stage times)" \
-    "$out/${name}_meshlab_full.log" | sed 's/^LOG: [0-9] //' | sort -u || cat "$out/${name}_meshlab_full.log"
+    "$out/${name}_meshlab_full.log" | sed 's/^LOG: [0-9] //' | awk '!seen[$0]++' || cat "$out/${name}_meshlab_full.log"
 done
 echo
 echo "Done. The filters are in MeshLab under Filters > Remeshing, Simplification and Reconstruction."
