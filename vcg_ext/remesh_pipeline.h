@@ -227,7 +227,12 @@ public:
                                 std::to_string(kMinFaces) + ")");
       switch (stage) {
       case PipelineStage::Clean: {
-        const auto r = CleanRawMesh<MeshType>::Do(m, params.clean);
+        auto cleanParams = params.clean;
+        // Its own before/after intersection counts would repeat the pipeline's input report and
+        // final report (two grid sweeps), unless it is the last stage or every stage is checked.
+        if (!params.intersectionsEachStage && s + 1 < stageCount)
+          cleanParams.measureSelfIntersections = false;
+        const auto r = CleanRawMesh<MeshType>::Do(m, cleanParams);
         if (!r.ok) return fail(record, r.message);
         record.summary = r.Summary();
         break;
