@@ -4,7 +4,6 @@
 // status (2 for unusable input, 1 for command-line mistakes); never a crash.
 #include <CLI/CLI.hpp>
 
-#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <fstream>
@@ -105,15 +104,10 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.intersectionsEachStage = options.checkEachStage;
   params.cvt.iterations = options.cvtIterations;
   params.segment.patchCount = options.patches;
-  params.valence.minAngleDeg = params.small.minAngleDeg = params.obtuse.minAngleDeg =
-      params.polish.minAngleDeg = options.minAngle;
-  params.smooth.minAngleDeg = options.minAngle;
-  params.valence.maxAngleDeg = params.small.maxAngleDeg = options.maxAngle;
-  params.valence.areaFactor = params.polish.areaFactor = options.areaFactor;
-  params.obtuse.thresholdsDeg = options.obtuseThresholds;
-  if (!options.obtuseThresholds.empty()) // the final valence pass keeps the lowest one as max angle
-    params.polish.maxAngleDeg =
-        *std::min_element(options.obtuseThresholds.begin(), options.obtuseThresholds.end());
+  params.SetMinAngle(options.minAngle);
+  params.SetMaxAngle(options.maxAngle);
+  params.SetValenceAreaFactor(options.areaFactor);
+  params.SetObtuseThresholds(options.obtuseThresholds);
   params.obtuse.iterationsPerThreshold = options.translationIterations;
   // The output format must be writable before hours of work are spent.
   if (molremesh::FormatFromPath(output) == molremesh::MeshFormat::Unknown)

@@ -501,17 +501,14 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
   if (parameters.hasParameter("minAngle")) {
     const double a = parameters.getFloat("minAngle");
     if (!(a >= 0 && a < 60)) return fail("Min angle must be at least 0 and below 60 degrees");
-    params.valence.minAngleDeg = params.small.minAngleDeg = params.obtuse.minAngleDeg =
-        params.polish.minAngleDeg = a;
-    params.smooth.minAngleDeg = a;
+    params.SetMinAngle(a);
   }
   if (parameters.hasParameter("maxAngle")) {
     const double a = parameters.getFloat("maxAngle");
     if (!(a > 60 && a <= 180)) return fail("Max angle must be above 60 and at most 180 degrees");
-    params.valence.maxAngleDeg = params.small.maxAngleDeg = a;
+    params.SetMaxAngle(a);
   }
-  if (parameters.hasParameter("areaFactor"))
-    params.valence.areaFactor = params.polish.areaFactor = parameters.getFloat("areaFactor");
+  if (parameters.hasParameter("areaFactor")) params.SetValenceAreaFactor(parameters.getFloat("areaFactor"));
   if (parameters.hasParameter("rounds")) params.valence.rounds = parameters.getInt("rounds");
   if (parameters.hasParameter("collapseAngle"))
     params.small.collapseAngleDeg = parameters.getFloat("collapseAngle");
@@ -520,16 +517,13 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
   if (parameters.hasParameter("deleteAndRefill"))
     params.small.deleteAndRefill = parameters.getBool("deleteAndRefill");
   if (parameters.hasParameter("obtuseThreshold1")) {
-    params.obtuse.thresholdsDeg.clear();
+    std::vector<double> thresholds;
     for (const char* name : {"obtuseThreshold1", "obtuseThreshold2", "obtuseThreshold3"}) {
       const double t = parameters.getFloat(name);
       if (!(t >= 60 && t <= 180)) return fail("Max-angle thresholds must be between 60 and 180 degrees");
-      if (t < 180) params.obtuse.thresholdsDeg.push_back(t);
+      if (t < 180) thresholds.push_back(t);
     }
-    // The final valence pass keeps the last (lowest) obtuse threshold as its max angle.
-    if (!params.obtuse.thresholdsDeg.empty())
-      params.polish.maxAngleDeg =
-          *std::min_element(params.obtuse.thresholdsDeg.begin(), params.obtuse.thresholdsDeg.end());
+    params.SetObtuseThresholds(thresholds);
   }
   if (parameters.hasParameter("smoothIterations"))
     params.smooth.iterations = parameters.getInt("smoothIterations");

@@ -143,6 +143,23 @@ public:
     typename ObtuseReduction<MeshType>::Params obtuse;
     typename LocalSmoothing<MeshType>::Params smooth;
     typename ValenceOptimization<MeshType>::Params polish = PolishDefaults(); ///< valence with max angle 90
+
+    // Settings shared by several stages, set in one place so the CLI and the plugin agree.
+    /// No edit of valence, small, obtuse, smooth or polish may leave an angle below it.
+    void SetMinAngle(double deg) {
+      valence.minAngleDeg = small.minAngleDeg = obtuse.minAngleDeg = smooth.minAngleDeg = polish.minAngleDeg =
+          deg;
+    }
+    /// Max-angle guard of valence optimization and small-angle elimination.
+    void SetMaxAngle(double deg) { valence.maxAngleDeg = small.maxAngleDeg = deg; }
+    /// Obtuse reduction's thresholds, in order; polish keeps the lowest as its max angle.
+    void SetObtuseThresholds(const std::vector<double>& thresholdsDeg) {
+      obtuse.thresholdsDeg = thresholdsDeg;
+      if (!thresholdsDeg.empty())
+        polish.maxAngleDeg = *std::min_element(thresholdsDeg.begin(), thresholdsDeg.end());
+    }
+    /// Phase-2 area limit of both valence passes.
+    void SetValenceAreaFactor(double factor) { valence.areaFactor = polish.areaFactor = factor; }
   };
 
   static typename ValenceOptimization<MeshType>::Params PolishDefaults() {
@@ -215,6 +232,13 @@ public:
       say(std::string("stage ") + record.name + " ...");
       if (cb) cb(int(100 * s / std::max<std::size_t>(1, stageCount)), record.name.c_str());
       const auto stageStart = Clock::now();
+      // The stages from valence on share one interface (see RunLocalStage).
+      auto runLocal = [&](auto tag, const auto& stageParams) -> std::string {
+        using Stage = typename decltype(tag)::Type;
+        ensureTargetLength();
+        if (std::string error = ensureReference(); !error.empty()) return error;
+        return RunLocalStage<Stage>(m, *reference, stageParams, result, params, record.summary);
+      };
       vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
       vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
 
@@ -286,51 +310,31 @@ public:
         result.patchCount = 0;
         break;
       }
-      case PipelineStage::Valence: {
-        ensureTargetLength();
-        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
-        if (const std::string error = RunLocalStage<ValenceOptimization<MeshType>>(
-                m, *reference, params.valence, result, params, record.summary);
+      case PipelineStage::Valence:
+        if (const std::string error = runLocal(Tag<ValenceOptimization<MeshType>>(), params.valence);
             !error.empty())
           return fail(record, error);
         break;
-      }
-      case PipelineStage::Small: {
-        ensureTargetLength();
-        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
-        if (const std::string error = RunLocalStage<SmallAngleElimination<MeshType>>(
-                m, *reference, params.small, result, params, record.summary);
+      case PipelineStage::Small:
+        if (const std::string error = runLocal(Tag<SmallAngleElimination<MeshType>>(), params.small);
             !error.empty())
           return fail(record, error);
         break;
-      }
-      case PipelineStage::Obtuse: {
-        ensureTargetLength();
-        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
-        if (const std::string error = RunLocalStage<ObtuseReduction<MeshType>>(
-                m, *reference, params.obtuse, result, params, record.summary);
+      case PipelineStage::Obtuse:
+        if (const std::string error = runLocal(Tag<ObtuseReduction<MeshType>>(), params.obtuse);
             !error.empty())
           return fail(record, error);
         break;
-      }
-      case PipelineStage::Polish: {
-        ensureTargetLength();
-        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
-        if (const std::string error = RunLocalStage<ValenceOptimization<MeshType>>(
-                m, *reference, params.polish, result, params, record.summary);
+      case PipelineStage::Smooth:
+        if (const std::string error = runLocal(Tag<LocalSmoothing<MeshType>>(), params.smooth);
             !error.empty())
           return fail(record, error);
         break;
-      }
-      case PipelineStage::Smooth: {
-        ensureTargetLength();
-        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
-        if (const std::string error = RunLocalStage<LocalSmoothing<MeshType>>(m, *reference, params.smooth,
-                                                                              result, params, record.summary);
+      case PipelineStage::Polish:
+        if (const std::string error = runLocal(Tag<ValenceOptimization<MeshType>>(), params.polish);
             !error.empty())
           return fail(record, error);
         break;
-      }
       }
       vcg::tri::Allocator<MeshType>::CompactEveryVector(m);
       record.seconds = std::chrono::duration<double>(Clock::now() - stageStart).count();
@@ -350,7 +354,12 @@ public:
   }
 
 private:
-  /// The stages after RAR share one interface: Do(m, reference, params) -> Result{ok, message,
+  template <class T>
+  struct Tag {
+    using Type = T;
+  };
+
+  /// The stages from valence on share one interface: Do(m, reference, params) -> Result{ok, message,
   /// Summary()}, with targetEdgeLength, threads and seed in their Params. Returns the error.
   template <class Stage>
   static std::string RunLocalStage(MeshType& m, const ReferenceSurface<MeshType>& reference,
