@@ -18,10 +18,10 @@ import argparse
 import json
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
-import time
+
+from run_benchmarks import run_measured  # the benchmark runner's timing (os.wait4)
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 MESHES = os.path.join(REPO, "..", "shared", "data", "meshes")
@@ -29,24 +29,8 @@ MESHES = os.path.join(REPO, "..", "shared", "data", "meshes")
 
 def run(argv, timeout=3600):
     """Runs argv; returns (exit code, stdout, stderr, wall seconds, peak MB of this child)."""
-    start = time.monotonic()
-    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
-        proc = subprocess.Popen(argv, stdout=out, stderr=err, text=True)
-        deadline = start + timeout
-        while True:
-            pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
-            if pid:
-                break
-            if time.monotonic() > deadline:
-                proc.kill()
-                pid, status, usage = os.wait4(proc.pid, 0)
-                status = 124 << 8
-                break
-            time.sleep(0.05)
-        proc.returncode = os.waitstatus_to_exitcode(status) if status != 124 << 8 else 124
-        out.seek(0)
-        err.seek(0)
-        return proc.returncode, out.read(), err.read(), time.monotonic() - start, usage.ru_maxrss / 1024.0
+    r = run_measured(argv, timeout)
+    return (124 if r.timed_out else r.code), r.stdout, r.stderr, r.seconds, r.peak_mb
 
 
 def tetgen_ok(build, mesh_file, work):
