@@ -133,11 +133,13 @@ private:
   };
 
   struct Session {
+    Session(MeshType& mesh, Ops& o, const Params& p, Result& r)
+        : m(mesh), ops(o), params(p), result(r), meanFaceArea(MeanFaceArea(mesh)) {}
     MeshType& m;
     Ops& ops;
     const Params& params;
     Result& result;
-    double meanFaceArea = 0;
+    double meanFaceArea; ///< phase 2 compares hole areas with it
     // Scratch.
     std::vector<FacePointer> region, phaseOne;
     std::vector<VertexPointer> loop, interior;
@@ -154,6 +156,12 @@ private:
     bool Refill(const std::vector<FacePointer>& faces);
   };
 
+  static double MeanFaceArea(const MeshType& m) {
+    double area = 0;
+    for (const auto& f : m.face)
+      if (!f.IsD()) area += FaceArea(f);
+    return m.fn ? area / double(m.fn) : 0;
+  }
   static double FaceArea(const FaceType& f) {
     return 0.5 * vcg::Norm((f.cP(1) - f.cP(0)) ^ (f.cP(2) - f.cP(0)));
   }
@@ -579,13 +587,7 @@ ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const
   result.before = Census(m);
   countBad(result.smallAnglesBefore, result.largeAnglesBefore);
 
-  Session session{m, ops, params, result, 0.0, {}, {}, {}, {}};
-  {
-    double area = 0;
-    for (const auto& f : m.face)
-      if (!f.IsD()) area += FaceArea(f);
-    session.meanFaceArea = m.fn ? area / double(m.fn) : 0;
-  }
+  Session session(m, ops, params, result);
   std::vector<std::size_t> irregular;
   auto collectIrregular = [&]() {
     irregular.clear();
