@@ -54,6 +54,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <tuple>
@@ -161,6 +162,11 @@ private:
       count += 3;
     }
     return count > 0 ? sum / double(count) : 0.0;
+  }
+  static std::string SecondsText(double seconds) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2f", seconds);
+    return text;
   }
   static std::size_t LiveVertices(const MeshType& m) {
     std::size_t n = 0;
@@ -518,6 +524,7 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   auto since = [](std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
   };
+  const double setupSeconds = since(start);
   auto phase = now();
   const int threads = ResolveThreadCount(params.threads);
   std::vector<EdgeCandidate> edges;
@@ -645,8 +652,10 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   }
   if (params.matchVertexCount && params.iterations == 0) matchCount();
 
+  phase = now();
   if (params.preserveVolume)
     result.volumeOffset = RestoreVolume(ops, *reference, params.maxVolumeOffset * L, threads) / L;
+  const double volumeSeconds = since(phase);
 
   const LocalOpsStats& stats = ops.Stats();
   result.splits = stats.splits;
@@ -662,7 +671,11 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   Progress(cb, 1.0, "CVT: done");
   return finish(true, "CVT initialization: " + std::to_string(result.verticesIn) + " -> " +
                           std::to_string(result.verticesOut) + " vertices, L = " + std::to_string(L) + ", " +
-                          std::to_string(result.iterations) + " Lloyd iterations");
+                          std::to_string(result.iterations) + " Lloyd iterations; seconds: setup " +
+                          SecondsText(setupSeconds) + ", sampling " + SecondsText(result.secondsSampling) +
+                          ", centroids " + SecondsText(result.secondsCentroids) + ", moves " +
+                          SecondsText(result.secondsMoves) + ", flips " + SecondsText(result.secondsFlips) +
+                          ", volume " + SecondsText(volumeSeconds));
 }
 
 } // namespace molremesh

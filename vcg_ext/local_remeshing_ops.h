@@ -43,6 +43,7 @@
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/face_face_topology.h>
 #include <vcg_ext/face_hash_grid.h>
 #include <vcg_ext/mesh_quality.h>
 #include <vcg_ext/parallel_for.h>
@@ -581,7 +582,7 @@ bool LocalRemeshingOps<MeshType>::PrepareTopology(MeshType& m, std::string* erro
         f.cV(1) == f.cV(2) || f.cV(2) == f.cV(0))
       return fail("the mesh has faces with a repeated or missing vertex; clean it first");
   }
-  vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+  UpdateFaceFaceTopology(m);
   vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
 
   // 2-manifold and consistently oriented: every edge has one or two faces, two faces traverse

@@ -32,6 +32,7 @@
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/face_face_topology.h>
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
 #include <vcg_ext/local_stage.h>
@@ -137,7 +138,7 @@ public:
     session.Run(r);
     r.refused = ops.Stats().Refused();
     ops.Finish();
-    vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+    UpdateFaceFaceTopology(m);
     vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
     r.badAfter = Measure(m, params, r.smallAfter, r.obtuseAfter, r.angleMinAfter, r.angleMaxAfter);
     return finish(true, "local smoothing: " + std::to_string(r.badBefore) + " -> " +

@@ -39,6 +39,7 @@
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/face_face_topology.h>
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
 #include <vcg_ext/local_stage.h>
@@ -152,7 +153,7 @@ public:
     session.Run(r);
     r.refused = ops.Stats().Refused();
     ops.Finish();
-    vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+    UpdateFaceFaceTopology(m);
     vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
     Measure(m, lowest, r.obtuseAfter, above, r.angleMinAfter, r.angleMaxAfter);
     return finish(true, "obtuse reduction: " + std::to_string(r.obtuseBefore) + " -> " +

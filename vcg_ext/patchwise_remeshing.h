@@ -41,6 +41,7 @@
 #include <vcg/complex/complex.h>
 
 #include <vcg_ext/adaptive_remeshing.h>
+#include <vcg_ext/face_face_topology.h>
 #include <vcg_ext/face_hash_grid.h>
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
@@ -267,7 +268,7 @@ typename PatchwiseRemeshing<MeshType>::InputTopology PatchwiseRemeshing<MeshType
       ++t.badFaces;
   }
   if (t.badFaces > 0) return t;
-  vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+  UpdateFaceFaceTopology(m);
   vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
   double edgeSum = 0;
   std::size_t sides = 0;
@@ -628,7 +629,7 @@ void PatchwiseRemeshing<MeshType>::Stitch(const Context& ctx, const std::vector<
     vbase += r.verts.size();
   }
   // Border vertices no face uses any more cannot exist (they are locked), but keep the mesh clean.
-  vcg::tri::UpdateTopology<MeshType>::FaceFace(out.mesh);
+  UpdateFaceFaceTopology(out.mesh);
   vcg::tri::UpdateTopology<MeshType>::VertexFace(out.mesh);
   IndexPatches(out, int(results.size()));
 }
@@ -802,13 +803,13 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   // --- 1. Sizing, border vertices --------------------------------------------------------------------
   auto phase = Clock::now();
   progress(2, "RAR: sizing field");
-  vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+  UpdateFaceFaceTopology(m);
   vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
   auto rarParams = rp;
   rarParams.targetEdgeLength = L0;
   Global g0;
   vcg::tri::Append<MeshType, MeshType>::MeshCopy(g0.mesh, m);
-  vcg::tri::UpdateTopology<MeshType>::FaceFace(g0.mesh);
+  UpdateFaceFaceTopology(g0.mesh);
   vcg::tri::UpdateTopology<MeshType>::VertexFace(g0.mesh);
   // MeshCopy compacts: map the segmentation onto the copy's faces (same order, deleted skipped).
   g0.facePatch.clear();
@@ -955,7 +956,7 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   // --- Result into m -------------------------------------------------------------------------------
   vcg::tri::Allocator<MeshType>::CompactEveryVector(*output);
   vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, *output);
-  vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+  UpdateFaceFaceTopology(m);
   vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
   if (vcg::tri::HasPerFaceNormal(m)) vcg::tri::UpdateNormal<MeshType>::PerFaceNormalized(m);
   if (vcg::tri::HasPerVertexNormal(m)) vcg::tri::UpdateNormal<MeshType>::PerVertexNormalized(m);

@@ -9,6 +9,8 @@
 #include <vcg/complex/append.h>
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/face_face_topology.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
@@ -203,7 +205,7 @@ public:
       result.ok = false;
       result.message = std::string("stage '") + record.name + "' failed: " + why + " (the mesh is unchanged)";
       vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, backup);
-      vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+      UpdateFaceFaceTopology(m);
       vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
       say(result.message);
       return result;
@@ -239,7 +241,7 @@ public:
         if (std::string error = ensureReference(); !error.empty()) return error;
         return RunLocalStage<Stage>(m, *reference, stageParams, result, params, record.summary);
       };
-      vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+      UpdateFaceFaceTopology(m);
       vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
 
       // A surface to remesh needs at least a tetrahedron's 4 faces; fewer (a lone triangle, a
@@ -346,7 +348,7 @@ public:
       say(std::string("stage ") + record.name + " done in " + std::to_string(record.seconds) + " s");
       result.stages.push_back(record);
     }
-    vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+    UpdateFaceFaceTopology(m);
     vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (cb) cb(100, "done");

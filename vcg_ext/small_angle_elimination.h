@@ -38,6 +38,7 @@
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/face_face_topology.h>
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
 #include <vcg_ext/local_stage.h>
@@ -162,7 +163,7 @@ public:
     }
     r.refused = ops.Stats().Refused();
     ops.Finish();
-    vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+    UpdateFaceFaceTopology(m);
     vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
     r.smallFacesAfter = CountSmall(m, params.minAngleDeg, r.angleMinAfter);
     return finish(true, "small-angle elimination: " + std::to_string(r.smallFacesBefore) + " -> " +

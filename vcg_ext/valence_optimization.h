@@ -31,6 +31,7 @@
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/face_face_topology.h>
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
 #include <vcg_ext/mesh_quality.h>
@@ -624,7 +625,7 @@ ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const
     if (!changed) break;
   }
   ops.Finish();
-  vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+  UpdateFaceFaceTopology(m);
   vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
   result.after = Census(m);
   countBad(result.smallAnglesAfter, result.largeAnglesAfter);
