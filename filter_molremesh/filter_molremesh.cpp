@@ -247,7 +247,8 @@ int FilterMolRemeshPlugin::postCondition(QAction* action) const {
   case FP_REDUCE_OBTUSE:
   case FP_LOCAL_SMOOTHING:
   case FP_FULL_PIPELINE:
-    return MeshModel::MM_ALL;
+    // MM_ALL is 0xffffffff in an unsigned enum; the interface returns int (all bits set).
+    return static_cast<int>(MeshModel::MM_ALL);
   }
   return MeshModel::MM_NONE;
 }
