@@ -85,6 +85,10 @@ struct RemeshOptions {
   std::vector<double> obtuseThresholds{110, 100, 90};
   int translationIterations = 20;
   double areaFactor = 9;
+  // Cleaning: the library's defaults.
+  double mergeTolerance = molremesh::CleanRawMesh<MeshD>::Params().mergeTolerance;
+  int maxHoleEdges = molremesh::CleanRawMesh<MeshD>::Params().maxHoleEdges;
+  double minComponentPercent = 100.0 * molremesh::CleanRawMesh<MeshD>::Params().minComponentFraction;
   std::string jsonPath;
   bool quiet = false;
   bool checkEachStage = false;
@@ -109,6 +113,9 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.SetValenceAreaFactor(options.areaFactor);
   params.SetObtuseThresholds(options.obtuseThresholds);
   params.obtuse.iterationsPerThreshold = options.translationIterations;
+  params.clean.mergeTolerance = options.mergeTolerance;
+  params.clean.maxHoleEdges = options.maxHoleEdges;
+  params.clean.minComponentFraction = options.minComponentPercent / 100.0;
   // The output format must be writable before hours of work are spent.
   if (molremesh::FormatFromPath(output) == molremesh::MeshFormat::Unknown)
     throw InputError("cannot write '" + output + "': unknown format (use .ply, .off, .obj or .stl)");
@@ -228,6 +235,22 @@ int main(int argc, char** argv) {
                    "Valence optimization: a hole grows while its area is below this x the mean face area")
       ->default_val(9.0)
       ->check(CLI::NonNegativeNumber);
+  remesh
+      ->add_option("--merge-tolerance", remeshOptions.mergeTolerance,
+                   "Clean: merge vertices closer than this x the mean edge length")
+      ->default_val(remeshOptions.mergeTolerance)
+      ->check(CLI::NonNegativeNumber);
+  remesh
+      ->add_option("--max-hole-edges", remeshOptions.maxHoleEdges,
+                   "Clean: close holes with at most this many boundary edges")
+      ->default_val(remeshOptions.maxHoleEdges)
+      ->check(CLI::NonNegativeNumber);
+  remesh
+      ->add_option(
+          "--min-component-percent", remeshOptions.minComponentPercent,
+          "Clean: remove components with fewer than this % of the faces (never the largest; 0 keeps all)")
+      ->default_val(remeshOptions.minComponentPercent)
+      ->check(CLI::Range(0.0, 100.0));
   remesh->add_option("--json", remeshOptions.jsonPath,
                      "Also write the per-stage figures as JSON to this file");
   remesh->add_flag("--quiet", remeshOptions.quiet, "No progress lines on stderr");

@@ -34,6 +34,21 @@ void AddMinAngleParameter(RichParameterList& parameters) {
                 "No edit leaves more faces with an angle below this than it removed; the small-angle "
                 "stage removes every angle below it."));
 }
+/// The clean stage's settings (Clean Raw Mesh and Full Pipeline).
+void AddCleanParameters(RichParameterList& parameters) {
+  const molremesh::CleanRawMesh<molremesh::MeshD>::Params defaults;
+  parameters.addParam(RichFloat("mergeTolerance", float(defaults.mergeTolerance), "Merge tolerance",
+                                "Vertices closer than this times the mean edge length are merged."));
+  parameters.addParam(RichInt("maxHoleEdges", defaults.maxHoleEdges, "Largest hole to close (edges)",
+                              "Boundary loops with at most this many edges are closed."));
+  parameters.addParam(RichFloat("minComponentPercent", float(100 * defaults.minComponentFraction),
+                                "Smallest component kept (% of faces)",
+                                "Components with fewer faces than this percentage are removed (and counted; "
+                                "never the largest). 0 keeps every component."));
+  parameters.addParam(
+      RichBool("repairTangles", defaults.repairTangles, "Repair small tangles",
+               "Remove and refill small self-intersecting or incoherently oriented regions."));
+}
 void AddCommonParameters(RichParameterList& parameters) {
   parameters.addParam(
       RichFloat("targetLength", 0.f, "Target edge length",
@@ -269,21 +284,9 @@ void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel&, RichPa
                                   "Faces whose largest angle is at or above this are colored red."));
     break;
   }
-  case FP_CLEAN_RAW_MESH: {
-    const molremesh::CleanRawMesh<molremesh::MeshD>::Params defaults;
-    parameters.addParam(RichFloat("mergeTolerance", float(defaults.mergeTolerance), "Merge tolerance",
-                                  "Vertices closer than this times the mean edge length are merged."));
-    parameters.addParam(RichInt("maxHoleEdges", defaults.maxHoleEdges, "Largest hole to close (edges)",
-                                "Boundary loops with at most this many edges are closed."));
-    parameters.addParam(
-        RichFloat("minComponentPercent", float(100 * defaults.minComponentFraction),
-                  "Smallest component kept (% of faces)",
-                  "Components with fewer faces than this percentage are removed (and counted)."));
-    parameters.addParam(
-        RichBool("repairTangles", defaults.repairTangles, "Repair small tangles",
-                 "Remove and refill small self-intersecting or incoherently oriented regions."));
+  case FP_CLEAN_RAW_MESH:
+    AddCleanParameters(parameters);
     break;
-  }
   case FP_CVT_INITIALIZATION: {
     const molremesh::CvtInitialization<molremesh::MeshD>::Params defaults;
     parameters.addParam(RichInt("iterations", defaults.iterations, "Lloyd iterations",
@@ -361,6 +364,7 @@ void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel&, RichPa
         RichFloat("areaFactor", float(defaults.valence.areaFactor), "Valence area factor",
                   "Phase 2 of valence optimization grows a hole while its area stays below this "
                   "times the mean triangle area."));
+    AddCleanParameters(parameters);
     parameters.addParam(RichInt("threads", 0, "Threads",
                                 "Worker threads; 0 = all cores. The result does not "
                                 "depend on it."));
