@@ -336,6 +336,41 @@ TEST(LocalRemeshingOps, AngleGuardRefusesSmallAnglesUnlessTheyImprove) {
   ExpectValid(s.m, 0, 1);
 }
 
+TEST(LocalRemeshingOps, FidelityGuardKeepsInputSpikes) {
+  // A grid whose centre vertex (2, 2) is lifted into a spike; the reference is the grid itself.
+  // Only the fidelity guard is on: collapsing an edge of the tip would cut the spike off.
+  LocalOpsGuards guards;
+  guards.minAngleDeg = 0;
+  guards.maxNormalDeviationDeg = 180;
+  guards.maxFoldAngleDeg = 180;
+  auto spike = [](OpsSetup<MeshD>& s) {
+    Grid(s.m, 4, 4.0);
+    s.m.vert[12].P()[2] = 0.8;
+  };
+  {
+    OpsSetup<MeshD> s;
+    spike(s);
+    guards.maxInputDistanceFactor = 0.25;
+    s.Start(guards);
+    const Snapshot before(s.m);
+    int z = 0;
+    EXPECT_FALSE(s.ops->CollapseEdge(s.Edge(12, 13, z), z));
+    EXPECT_EQ(s.ops->LastRefusal(), OpRefusal::InputDistance);
+    EXPECT_TRUE(Snapshot(s.m) == before);
+    // Edits on the flat part away from the tip keep every input point on the mesh: allowed.
+    EXPECT_TRUE(s.ops->FlipEdge(s.Edge(0, 6, z), z));
+    ExpectValid(s.m, 0, 1);
+  }
+  {
+    OpsSetup<MeshD> s;
+    spike(s);
+    guards.maxInputDistanceFactor = 0; // off: the same collapse goes through
+    s.Start(guards);
+    int z = 0;
+    EXPECT_TRUE(s.ops->CollapseEdge(s.Edge(12, 13, z), z));
+  }
+}
+
 TEST(LocalRemeshingOps, MovesThatFoldTheStarAreRefused) {
   OpsSetup<MeshD> s;
   Grid(s.m, 4, 4.0);

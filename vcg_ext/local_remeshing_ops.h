@@ -18,7 +18,13 @@
 //  - no new intersection: the new faces are tested against every face whose bounding box they
 //    touch (dynamic FaceHashGrid) and against each other, with the exact same closed-triangle
 //    predicates MeshQuality uses to count self-intersections: faces sharing no vertex must not
-//    meet, faces sharing one vertex must not meet anywhere else.
+//    meet, faces sharing one vertex must not meet anywhere else;
+//  - optionally, fidelity to the input (Guards::maxInputDistanceFactor): the input points near
+//    the region (reference vertices, face centroids and the points halfway between centroid
+//    and corners) must stay within that distance of the mesh, or no farther than before. The
+//    distance after the edit is exact: to the new faces, then to the unchanged faces around
+//    them (intersection grid), so a point held by another part of the mesh is never a reason
+//    to refuse. Off by default; it costs a scan of the input around the region per edit.
 // Vertices created or moved are placed on the reference surface with ReferenceSurface::Project
 // from their previous footpoint (per-vertex footpoint faces are kept here), so they never jump
 // across a narrow gap.
@@ -65,16 +71,17 @@ namespace molremesh {
 /// Why an operation was refused. Counted per reason in LocalOpsStats::refused.
 enum class OpRefusal : int {
   None = 0,
-  Locked,       ///< touches a locked vertex or edge
-  Boundary,     ///< boundary vertex relocation, boundary edge flip, boundary vertex removal off the border
-  Topology,     ///< link condition, ear, valence, existing edge
-  Degenerate,   ///< a new face would have (nearly) zero area
-  MinAngle,     ///< angle guard (smallest angle)
-  MaxAngle,     ///< angle guard (largest angle)
-  Normal,       ///< a new face deviates from the reference normal
-  Fold,         ///< two adjacent faces would fold onto each other
-  EdgeLength,   ///< a collapse would create an edge longer than allowed
-  Intersection, ///< a new face would intersect another face
+  Locked,        ///< touches a locked vertex or edge
+  Boundary,      ///< boundary vertex relocation, boundary edge flip, boundary vertex removal off the border
+  Topology,      ///< link condition, ear, valence, existing edge
+  Degenerate,    ///< a new face would have (nearly) zero area
+  MinAngle,      ///< angle guard (smallest angle)
+  MaxAngle,      ///< angle guard (largest angle)
+  Normal,        ///< a new face deviates from the reference normal
+  Fold,          ///< two adjacent faces would fold onto each other
+  EdgeLength,    ///< a collapse would create an edge longer than allowed
+  Intersection,  ///< a new face would intersect another face
+  InputDistance, ///< an input point near the region would end too far from the mesh
   Count
 };
 
@@ -91,6 +98,12 @@ struct LocalOpsGuards {
   /// angle over more faces. For stages that promise "no new angle below the guard".
   bool noMoreBadFaces = false;
   double gridCellFactor = 1.0; ///< intersection grid cell size, in target edge lengths
+  /// Fidelity to the input (0 = off): an edit may not leave a point of the input near the edited
+  /// region (a reference vertex or face centroid within inputReachFactor x L of it) farther than
+  /// this x L from the mesh, unless the point was at least as far before. Chords of collapses and
+  /// refills otherwise cut off the input's spikes and cusps, which sets the Hausdorff distance.
+  double maxInputDistanceFactor = 0.0;
+  double inputReachFactor = 1.5; ///< how far around the region input points are examined, x L
 };
 
 namespace local_ops_detail {
@@ -429,6 +442,9 @@ private:
   OpRefusal CheckRegion(double maxEdgeFromVertexLength = std::numeric_limits<double>::infinity(),
                         const VertexType* lengthVertex = nullptr);
   bool NewFacesIntersect();
+  /// The fidelity guard (LocalOpsGuards::maxInputDistanceFactor): true when the new faces leave
+  /// an input point near the region farther from the mesh than allowed.
+  bool NewFacesLeaveInput();
   OpRefusal Refuse(OpRefusal r) {
     lastRefusal_ = r;
     ++stats_.refused[std::size_t(r)];
@@ -453,7 +469,7 @@ private:
   std::uint32_t stamp_ = 0;
   std::vector<std::size_t> freeVerts_, freeFaces_;
   FaceHashGrid grid_;
-  typename Reference::Scratch scratch_;
+  typename Reference::Scratch scratch_, inputScratch_;
   LocalOpsStats stats_;
   OpRefusal lastRefusal_ = OpRefusal::None;
 
@@ -997,7 +1013,64 @@ OpRefusal LocalRemeshingOps<MeshType>::CheckRegion(double maxEdgeLength, const V
     if (nm.largeFaces > om.largeFaces) return OpRefusal::MaxAngle;
   }
   if (guards_.checkIntersections && NewFacesIntersect()) return OpRefusal::Intersection;
+  if (guards_.maxInputDistanceFactor > 0 && NewFacesLeaveInput()) return OpRefusal::InputDistance;
   return OpRefusal::None;
+}
+
+template <class MeshType>
+bool LocalRemeshingOps<MeshType>::NewFacesLeaveInput() {
+  using reference_detail::ClosestPointOnTriangle;
+  const double tol = guards_.maxInputDistanceFactor * L_;
+  const double tol2 = tol * tol;
+  const double reach = std::max(tol, guards_.inputReachFactor * L_);
+  vcg::Box3d box;
+  for (const FacePointer f : oldFaces_)
+    for (int k = 0; k < 3; ++k) box.Add(Pos(f->cV(k)));
+  for (const NewFace& nf : newFaces_)
+    for (int k = 0; k < 3; ++k) box.Add(nf.p[k]);
+  box.Offset(reach);
+  auto distance2 = [](const Point& q, const Point& a, const Point& b, const Point& c) {
+    return (ClosestPointOnTriangle(q, a, b, c) - q).SquaredNorm();
+  };
+  // Whether q ends farther than tol from the mesh and farther than it was.
+  auto worse = [&](const Point& q) {
+    double new2 = std::numeric_limits<double>::infinity();
+    for (const NewFace& nf : newFaces_) {
+      new2 = std::min(new2, distance2(q, nf.p[0], nf.p[1], nf.p[2]));
+      if (new2 <= tol2) return false;
+    }
+    double old2 = std::numeric_limits<double>::infinity();
+    for (const FacePointer f : oldFaces_)
+      old2 = std::min(old2, distance2(q, Pos(f->cV(0)), Pos(f->cV(1)), Pos(f->cV(2))));
+    if (new2 <= old2) return false;
+    // The rest of the mesh (unchanged) may hold q closer than the new faces.
+    const double r = std::sqrt(new2);
+    double rest2 = new2;
+    grid_.Query(vcg::Box3d(q - Point(r, r, r), q + Point(r, r, r)), [&](std::size_t g) {
+      if (faceStamp_[g] == stamp_ || rest2 <= tol2) return;
+      const FaceType& face = m_.face[g];
+      rest2 = std::min(rest2, distance2(q, Pos(face.cV(0)), Pos(face.cV(1)), Pos(face.cV(2))));
+    });
+    return rest2 > tol2 && rest2 > old2;
+  };
+  bool leaves = false;
+  ref_.ForEachFaceInBox(box, inputScratch_, [&](int f) {
+    if (leaves) return;
+    // The centroid and the points halfway between it and the corners: on a face across a ridge
+    // of the input, the farthest point is inside, not at a corner.
+    const Point &a = ref_.Corner(f, 0), &b = ref_.Corner(f, 1), &c = ref_.Corner(f, 2);
+    const Point centroid = (a + b + c) / 3.0;
+    for (const Point& q : {centroid, (centroid + a) * 0.5, (centroid + b) * 0.5, (centroid + c) * 0.5})
+      if (box.IsIn(q) && worse(q)) {
+        leaves = true;
+        return;
+      }
+    for (int k = 0; k < 3 && !leaves; ++k) {
+      const std::uint32_t vi = ref_.FaceVertices(f)[k];
+      if (ref_.VertexFace(vi) == f && box.IsIn(ref_.Vertex(vi)) && worse(ref_.Vertex(vi))) leaves = true;
+    }
+  });
+  return leaves;
 }
 
 template <class MeshType>

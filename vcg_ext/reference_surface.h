@@ -149,6 +149,12 @@ public:
   std::size_t VertexCount() const { return vertices_.size(); }
   const Point& Vertex(std::size_t i) const { return vertices_[i]; }
   int VertexFace(std::size_t i) const { return vertexFace_[i]; }
+  /// The corners of reference face f as indices of Vertex().
+  const std::array<std::uint32_t, 3>& FaceVertices(int f) const { return faceVertices_[f]; }
+  /// Calls visit(f) once for every reference face whose bounding box touches `box` (a walk over
+  /// the grid cells the box overlaps). Thread-safe with one Scratch per thread.
+  template <class Visit>
+  void ForEachFaceInBox(const vcg::Box3d& box, Scratch& scratch, Visit&& visit) const;
   /// Unit normal of reference face f (0 for a degenerate face).
   const Point& FaceNormal(int f) const { return faces_[f].n; }
   /// Connected components (through shared edges): count, the component of face f, whether it
@@ -197,6 +203,17 @@ private:
   }
   void BuildAdjacency(const std::vector<std::array<std::uint32_t, 3>>& tris);
   void BuildGrid();
+  /// A fresh visit mark in s (sized for this surface).
+  void NewVisit(Scratch& s) const {
+    if (s.visited_.size() != faceCount_) {
+      s.visited_.assign(faceCount_, 0);
+      s.stamp_ = 0;
+    }
+    if (++s.stamp_ == 0) { // wrapped: clear the marks once every 2^32 calls
+      std::fill(s.visited_.begin(), s.visited_.end(), 0);
+      s.stamp_ = 1;
+    }
+  }
 
   Params params_;
   std::size_t faceCount_ = 0;
@@ -209,6 +226,7 @@ private:
   std::vector<int> referenceOf_;
   std::vector<Point> vertices_;
   std::vector<int> vertexFace_;
+  std::vector<std::array<std::uint32_t, 3>> faceVertices_;
   double meanEdge_ = 0, area_ = 0, searchRadius_ = 0, cosMaxNormalAngle_ = 0;
   vcg::Box3d box_;
 
@@ -273,13 +291,16 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
     std::vector<int> seen(m.vert.size(), -1);
     vertices_.clear();
     vertexFace_.clear();
+    faceVertices_.resize(faceCount_);
     for (std::size_t f = 0; f < faceCount_; ++f)
-      for (int k = 0; k < 3; ++k)
+      for (int k = 0; k < 3; ++k) {
         if (seen[tris[f][k]] < 0) {
           seen[tris[f][k]] = int(vertices_.size());
           vertices_.push_back(faces_[f].p[k]);
           vertexFace_.push_back(int(f));
         }
+        faceVertices_[f][k] = std::uint32_t(seen[tris[f][k]]);
+      }
   }
   if (params_.phongAlpha > 0 && faceCount_ > 0) {
     // Angle-weighted vertex normals.
@@ -474,6 +495,35 @@ SurfaceProjection ReferenceSurface<MeshType>::ProjectGlobal(const Point& p) cons
 }
 
 template <class MeshType>
+template <class Visit>
+void ReferenceSurface<MeshType>::ForEachFaceInBox(const vcg::Box3d& box, Scratch& s, Visit&& visit) const {
+  // Closed boxes: a face parallel to a coordinate plane has a flat box (vcg's Collide is strict).
+  auto touch = [](const vcg::Box3d& a, const vcg::Box3d& b) {
+    for (int k = 0; k < 3; ++k)
+      if (a.min[k] > b.max[k] || b.min[k] > a.max[k]) return false;
+    return true;
+  };
+  if (faceCount_ == 0 || box.IsNull() || !touch(box, box_)) return;
+  NewVisit(s);
+  std::array<int, 6> r{};
+  for (int k = 0; k < 3; ++k) {
+    r[k] = std::clamp(int(std::floor((box.min[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
+    r[k + 3] = std::clamp(int(std::floor((box.max[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
+  }
+  for (int z = r[2]; z <= r[5]; ++z)
+    for (int y = r[1]; y <= r[4]; ++y)
+      for (int x = r[0]; x <= r[3]; ++x) {
+        const std::size_t c = (std::size_t(z) * dims_[1] + y) * dims_[0] + x;
+        for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
+          const std::uint32_t f = cellFaces_[k];
+          if (s.visited_[f] == s.stamp_) continue;
+          s.visited_[f] = s.stamp_;
+          if (touch(faces_[f].box, box)) visit(int(f));
+        }
+      }
+}
+
+template <class MeshType>
 SurfaceProjection ReferenceSurface<MeshType>::Project(const Point& p, int hintFace, Scratch& s) const {
   if (hintFace < 0 || std::size_t(hintFace) >= faceCount_) {
     SurfaceProjection global = ProjectGlobal(p);
@@ -483,14 +533,7 @@ SurfaceProjection ReferenceSurface<MeshType>::Project(const Point& p, int hintFa
     }
     return global;
   }
-  if (s.visited_.size() != faceCount_) {
-    s.visited_.assign(faceCount_, 0);
-    s.stamp_ = 0;
-  }
-  if (++s.stamp_ == 0) { // wrapped: clear the marks once every 2^32 calls
-    std::fill(s.visited_.begin(), s.visited_.end(), 0);
-    s.stamp_ = 1;
-  }
+  NewVisit(s);
   SurfaceProjection best = ClosestOnFace(p, hintFace);
   const Point& hintNormal = faces_[hintFace].n;
   const bool filterNormals = hintNormal.SquaredNorm() > 0;
