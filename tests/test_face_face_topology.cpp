@@ -1,0 +1,106 @@
+// UpdateFaceFaceTopology against vcglib's UpdateTopology::FaceFace: the same adjacency on manifold
+// meshes (real ones included), borders pointing at themselves, a non-manifold edge as one ring
+// through all its faces, deleted faces skipped.
+#include <gtest/gtest.h>
+
+#include <vcg_ext/face_face_topology.h>
+#include <vcg_ext/mesh_io.h>
+#include <vcg_ext/mesh_types.h>
+
+#include <array>
+#include <set>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "remeshing_test_meshes.h"
+#include "test_helpers.h"
+
+namespace {
+
+using molremesh::MeshD;
+using Point = vcg::Point3d;
+using Side = std::pair<std::size_t, int>; // (face index, side)
+
+/// For every live face side: the side FFp/FFi points at.
+std::vector<std::pair<Side, Side>> Links(const MeshD& m) {
+  std::vector<std::pair<Side, Side>> links;
+  for (std::size_t f = 0; f < m.face.size(); ++f) {
+    if (m.face[f].IsD()) continue;
+    for (int z = 0; z < 3; ++z)
+      links.push_back({{f, z}, {std::size_t(vcg::tri::Index(m, m.face[f].cFFp(z))), m.face[f].cFFi(z)}});
+  }
+  return links;
+}
+
+/// The faces reached by walking the FF ring from side (f, z) until it closes.
+std::set<std::size_t> Ring(const MeshD& m, std::size_t f, int z) {
+  std::set<std::size_t> faces;
+  const auto* face = &m.face[f];
+  int side = z;
+  for (std::size_t steps = 0; steps <= m.face.size(); ++steps) {
+    faces.insert(std::size_t(vcg::tri::Index(m, face)));
+    const auto* next = face->cFFp(side);
+    const int nextSide = face->cFFi(side);
+    face = next;
+    side = nextSide;
+    if (face == &m.face[f] && side == z) return faces;
+  }
+  ADD_FAILURE() << "the FF ring from face " << f << " side " << z << " does not close";
+  return faces;
+}
+
+void ExpectSameAsVcg(MeshD& m) {
+  vcg::tri::UpdateTopology<MeshD>::FaceFace(m);
+  const auto expected = Links(m);
+  for (auto& f : m.face)
+    for (int z = 0; z < 3; ++z) f.FFp(z) = nullptr;
+  molremesh::UpdateFaceFaceTopology(m);
+  EXPECT_EQ(Links(m), expected);
+}
+
+} // namespace
+
+TEST(FaceFaceTopology, SameAsVcgOnAClosedSphere) {
+  MeshD m;
+  molremesh::test::Icosphere(m, 3);
+  ExpectSameAsVcg(m);
+}
+
+TEST(FaceFaceTopology, SameAsVcgOnAMolecularSurface) {
+  MeshD m;
+  std::string error;
+  ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("bpti_1bpi_msms.ply"), error)) << error;
+  ExpectSameAsVcg(m);
+}
+
+TEST(FaceFaceTopology, BorderSidesPointAtThemselves) {
+  MeshD m;
+  molremesh::test::MakeMesh(m, {Point(0, 0, 0), Point(1, 0, 0), Point(0, 1, 0), Point(1, 1, 0)},
+                            {{0, 1, 2}, {1, 3, 2}});
+  ExpectSameAsVcg(m);
+  EXPECT_EQ(m.face[0].FFp(0), &m.face[0]);
+  EXPECT_EQ(m.face[0].FFi(0), 0);
+  EXPECT_EQ(m.face[0].FFp(1), &m.face[1]); // side 1-2 is shared
+}
+
+TEST(FaceFaceTopology, NonManifoldEdgeIsOneRingThroughAllItsFaces) {
+  // Three triangles on edge (0, 1).
+  MeshD m;
+  molremesh::test::MakeMesh(
+      m, {Point(0, 0, 0), Point(1, 0, 0), Point(0.5, 1, 0), Point(0.5, -1, 0), Point(0.5, 0, 1)},
+      {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+  molremesh::UpdateFaceFaceTopology(m);
+  EXPECT_EQ(Ring(m, 0, 0), (std::set<std::size_t>{0, 1, 2}));
+  EXPECT_EQ(Ring(m, 1, 0), (std::set<std::size_t>{0, 1, 2}));
+}
+
+TEST(FaceFaceTopology, DeletedFacesAreSkipped) {
+  MeshD m;
+  molremesh::test::MakeMesh(m, {Point(0, 0, 0), Point(1, 0, 0), Point(0, 1, 0), Point(1, 1, 0)},
+                            {{0, 1, 2}, {1, 3, 2}});
+  vcg::tri::Allocator<MeshD>::DeleteFace(m, m.face[1]);
+  molremesh::UpdateFaceFaceTopology(m);
+  EXPECT_EQ(m.face[0].FFp(1), &m.face[0]); // its neighbour is gone: now a border side
+  EXPECT_EQ(m.face[0].FFi(1), 1);
+}
