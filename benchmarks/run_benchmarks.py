@@ -41,6 +41,28 @@ import time
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_DATA = os.path.normpath(os.path.join(REPO, "..", "shared", "data", "meshes"))
+
+
+def portable_path(path):
+    """The path as committed result files keep it: relative to the repository for the shared data
+    beside it (../shared/...), else only the file name (outputs live in a temporary work folder)."""
+    if not path:
+        return path
+    relative = os.path.relpath(os.path.abspath(path), REPO)
+    if relative.startswith(os.path.join("..", "shared") + os.sep):
+        return relative
+    return os.path.basename(path)
+
+
+def portable_results(results):
+    """Every file path of the results made portable (no machine paths in committed JSON)."""
+    for result in results:
+        result["file"] = portable_path(result.get("file"))
+        for row in result.get("rows", []):
+            report = row.get("report")
+            if isinstance(report, dict) and "file" in report:
+                report["file"] = portable_path(report["file"])
+    return results
 DEFAULT_MOLREMESH_CMD = "{molremesh} remesh {input} {output} --stages clean,cvt,segment,rar"
 METHODS = ("cgal", "meshlab", "molremesh")
 METHOD_LABELS = {"input": "input", "cgal": "CGAL isotropic", "meshlab": "MeshLab isotropic", "molremesh": "molremesh"}
@@ -749,7 +771,7 @@ def main():
         print("run_benchmarks: tables written to %s" % args.out, file=sys.stderr)
     if args.json:
         with open(args.json, "w") as f:
-            json.dump(results, f, indent=1)
+            json.dump(portable_results(results), f, indent=1)
     return 0
 
 
