@@ -46,6 +46,7 @@
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
 #include <vcg_ext/parallel_for.h>
+#include <vcg_ext/quality_report_format.h>
 #include <vcg_ext/reference_surface.h>
 
 #include <algorithm>
@@ -54,7 +55,6 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
-#include <cstdio>
 #include <memory>
 #include <string>
 #include <tuple>
@@ -162,11 +162,6 @@ private:
       count += 3;
     }
     return count > 0 ? sum / double(count) : 0.0;
-  }
-  static std::string SecondsText(double seconds) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.2f", seconds);
-    return text;
   }
   static std::size_t LiveVertices(const MeshType& m) {
     std::size_t n = 0;
@@ -672,10 +667,12 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   return finish(true, "CVT initialization: " + std::to_string(result.verticesIn) + " -> " +
                           std::to_string(result.verticesOut) + " vertices, L = " + std::to_string(L) + ", " +
                           std::to_string(result.iterations) + " Lloyd iterations; seconds: setup " +
-                          SecondsText(setupSeconds) + ", sampling " + SecondsText(result.secondsSampling) +
-                          ", centroids " + SecondsText(result.secondsCentroids) + ", moves " +
-                          SecondsText(result.secondsMoves) + ", flips " + SecondsText(result.secondsFlips) +
-                          ", volume " + SecondsText(volumeSeconds));
+                          detail::FormatNumber(setupSeconds, 2) + ", sampling " +
+                          detail::FormatNumber(result.secondsSampling, 2) + ", centroids " +
+                          detail::FormatNumber(result.secondsCentroids, 2) + ", moves " +
+                          detail::FormatNumber(result.secondsMoves, 2) + ", flips " +
+                          detail::FormatNumber(result.secondsFlips, 2) + ", volume " +
+                          detail::FormatNumber(volumeSeconds, 2));
 }
 
 } // namespace molremesh

@@ -203,6 +203,15 @@ private:
   }
   void BuildAdjacency(const std::vector<std::array<std::uint32_t, 3>>& tris);
   void BuildGrid();
+  /// The grid cells box b overlaps, clamped to the grid: {x0, y0, z0, x1, y1, z1}, inclusive.
+  std::array<int, 6> CellRange(const vcg::Box3d& b) const {
+    std::array<int, 6> r{};
+    for (int k = 0; k < 3; ++k) {
+      r[k] = std::clamp(int(std::floor((b.min[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
+      r[k + 3] = std::clamp(int(std::floor((b.max[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
+    }
+    return r;
+  }
   /// A fresh visit mark in s (sized for this surface).
   void NewVisit(Scratch& s) const {
     if (s.visited_.size() != faceCount_) {
@@ -406,16 +415,9 @@ void ReferenceSurface<MeshType>::BuildGrid() {
   }
   for (int k = 0; k < 3; ++k) dims_[k] = int(std::floor(extent[k] / cell_)) + 1;
   const std::size_t cellCount = std::size_t(dims_[0]) * dims_[1] * dims_[2];
-  auto cellRange = [&](const vcg::Box3d& b, std::array<int, 6>& r) {
-    for (int k = 0; k < 3; ++k) {
-      r[k] = std::clamp(int(std::floor((b.min[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
-      r[k + 3] = std::clamp(int(std::floor((b.max[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
-    }
-  };
   cellStart_.assign(cellCount + 1, 0);
-  std::array<int, 6> r{};
   for (const Face& f : faces_) {
-    cellRange(f.box, r);
+    const std::array<int, 6> r = CellRange(f.box);
     for (int z = r[2]; z <= r[5]; ++z)
       for (int y = r[1]; y <= r[4]; ++y)
         for (int x = r[0]; x <= r[3]; ++x) ++cellStart_[(std::size_t(z) * dims_[1] + y) * dims_[0] + x + 1];
@@ -424,7 +426,7 @@ void ReferenceSurface<MeshType>::BuildGrid() {
   cellFaces_.resize(cellStart_[cellCount]);
   std::vector<std::uint32_t> fill(cellStart_.begin(), cellStart_.end() - 1);
   for (std::size_t fi = 0; fi < faceCount_; ++fi) {
-    cellRange(faces_[fi].box, r);
+    const std::array<int, 6> r = CellRange(faces_[fi].box);
     for (int z = r[2]; z <= r[5]; ++z)
       for (int y = r[1]; y <= r[4]; ++y)
         for (int x = r[0]; x <= r[3]; ++x)
@@ -505,11 +507,7 @@ void ReferenceSurface<MeshType>::ForEachFaceInBox(const vcg::Box3d& box, Scratch
   };
   if (faceCount_ == 0 || box.IsNull() || !touch(box, box_)) return;
   NewVisit(s);
-  std::array<int, 6> r{};
-  for (int k = 0; k < 3; ++k) {
-    r[k] = std::clamp(int(std::floor((box.min[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
-    r[k + 3] = std::clamp(int(std::floor((box.max[k] - box_.min[k]) / cell_)), 0, dims_[k] - 1);
-  }
+  const std::array<int, 6> r = CellRange(box);
   for (int z = r[2]; z <= r[5]; ++z)
     for (int y = r[1]; y <= r[4]; ++y)
       for (int x = r[0]; x <= r[3]; ++x) {
