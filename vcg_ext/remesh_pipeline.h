@@ -241,8 +241,12 @@ public:
         if (std::string error = ensureReference(); !error.empty()) return error;
         return RunLocalStage<Stage>(m, *reference, stageParams, result, params, record.summary);
       };
-      UpdateFaceFaceTopology(m);
-      vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+      // Segmentation walks face-face adjacency without building it (RAR may segment first); every
+      // other stage builds the adjacency it needs on entry.
+      if (stage == PipelineStage::Segment || stage == PipelineStage::Rar) {
+        UpdateFaceFaceTopology(m);
+        vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+      }
 
       // A surface to remesh needs at least a tetrahedron's 4 faces; fewer (a lone triangle, a
       // pair) are refused with a message rather than passed through unchanged. (Cleaning runs
