@@ -16,6 +16,8 @@
 
 #include <vcg/space/box3.h>
 
+#include <vcg_ext/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -83,6 +85,60 @@ public:
           cells_[slot].push_back(std::uint32_t(f));
           if (e.slotCount != kNoSlots) e.cellSlots[e.slotCount++] = slot;
         }
+  }
+
+  /// Inserts every face i < n for which boxOf(i, box) returns true (with its box) into an empty
+  /// grid: the same grid as Insert(i, box) called in increasing i, so queries visit faces in the
+  /// same order. Boxes and cell ranges are computed on `threads` threads (boxOf is called
+  /// concurrently, once per i); cells are created and filled in index order, each cell's list
+  /// allocated once at its final size.
+  template <class BoxOf>
+  void InsertAll(std::size_t n, BoxOf&& boxOf, int threads) {
+    Resize(n);
+    std::vector<std::uint32_t> start(n + 1, 0); // cells of face i: start[i] .. start[i + 1]
+    ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
+      Box box;
+      for (std::size_t i = begin; i < end; ++i) {
+        FaceEntry& e = faces_[i];
+        box.SetNull();
+        if (!boxOf(i, box)) continue;
+        SetBox(e, box);
+        e.in = true;
+        RangeOf(box, e.range);
+        const std::uint32_t cells = std::uint32_t(e.range[3] - e.range[0] + 1) *
+                                    std::uint32_t(e.range[4] - e.range[1] + 1) *
+                                    std::uint32_t(e.range[5] - e.range[2] + 1);
+        e.slotCount = cells <= kInlineSlots ? 0 : kNoSlots;
+        start[i + 1] = cells;
+      }
+    });
+    for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
+    // Cell slots in face order (as Insert creates them). Consecutive faces mostly share cells,
+    // so a small cache of the last lookups saves most of the hashing.
+    std::vector<std::uint32_t> slotOf(start[n]);
+    std::vector<std::uint32_t> cellSize;
+    std::array<std::pair<std::uint64_t, std::uint32_t>, 64> recent;
+    recent.fill({kEmpty, 0});
+    for (std::size_t i = 0; i < n; ++i) {
+      FaceEntry& e = faces_[i];
+      if (!e.in) continue;
+      std::uint32_t* out = slotOf.data() + start[i];
+      for (int z = e.range[2]; z <= e.range[5]; ++z)
+        for (int y = e.range[1]; y <= e.range[4]; ++y)
+          for (int x = e.range[0]; x <= e.range[3]; ++x) {
+            const std::uint64_t key = Key(x, y, z);
+            auto& cached = recent[(key ^ (key >> 21) ^ (key >> 42)) & (recent.size() - 1)];
+            if (cached.first != key) cached = {key, FindOrCreate(x, y, z)};
+            const std::uint32_t slot = cached.second;
+            if (slot >= cellSize.size()) cellSize.resize(slot + 1, 0);
+            ++cellSize[slot];
+            *out++ = slot;
+            if (e.slotCount != kNoSlots) e.cellSlots[e.slotCount++] = slot;
+          }
+    }
+    for (std::size_t c = 0; c < cellSize.size(); ++c) cells_[c].reserve(cells_[c].size() + cellSize[c]);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) cells_[slotOf[k]].push_back(std::uint32_t(i));
   }
 
   void Remove(std::size_t f) {

@@ -719,9 +719,14 @@ bool LocalRemeshingOps<MeshType>::Init(std::string* error, bool meshIsReference,
   }
 
   grid_.Reset(guards_.gridCellFactor * L_, rb.min);
-  grid_.Resize(m_.face.size());
-  for (std::size_t i = 0; i < m_.face.size(); ++i)
-    if (!m_.face[i].IsD()) grid_.Insert(i, FaceBox(m_.face[i]));
+  grid_.InsertAll(
+      m_.face.size(),
+      [&](std::size_t i, vcg::Box3d& box) {
+        if (m_.face[i].IsD()) return false;
+        box = FaceBox(m_.face[i]);
+        return true;
+      },
+      threads_);
   lastRefusal_ = OpRefusal::None;
   return true;
 }

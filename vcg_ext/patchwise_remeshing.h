@@ -643,14 +643,15 @@ PatchwiseRemeshing<MeshType>::CrossPatchIntersections(const Global& g, double L0
   for (const auto& v : m.vert)
     if (!v.IsD()) all.Add(Ops::ToPoint(v.cP()));
   grid.Reset(L0, all.min);
-  grid.Resize(m.face.size());
-  auto faceBox = [&](const FaceType& f) {
-    vcg::Box3d b;
-    for (int k = 0; k < 3; ++k) b.Add(Ops::ToPoint(f.cV(k)->cP()));
-    return b;
-  };
-  for (std::size_t fi = 0; fi < m.face.size(); ++fi)
-    if (!m.face[fi].IsD()) grid.Insert(fi, faceBox(m.face[fi]));
+  grid.InsertAll(
+      m.face.size(),
+      [&](std::size_t fi, vcg::Box3d& box) {
+        const FaceType& f = m.face[fi];
+        if (f.IsD()) return false;
+        for (int k = 0; k < 3; ++k) box.Add(Ops::ToPoint(f.cV(k)->cP()));
+        return true;
+      },
+      threads);
   const double maxAbs = std::max({std::fabs(all.min[0]), std::fabs(all.min[1]), std::fabs(all.min[2]),
                                   std::fabs(all.max[0]), std::fabs(all.max[1]), std::fabs(all.max[2])});
   const double margin = 1e-9 * (maxAbs + L0);
