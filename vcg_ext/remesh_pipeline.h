@@ -221,9 +221,15 @@ public:
     };
     auto ensureTargetLength = [&]() {
       if (result.targetEdgeLength > 0) return;
-      result.targetEdgeLength = params.targetEdgeLength > 0
-                                    ? params.targetEdgeLength
-                                    : MeshQuality<MeshType>::Compute(m, NoIntersections()).meanEdgeLength;
+      if (params.targetEdgeLength > 0) {
+        result.targetEdgeLength = params.targetEdgeLength;
+        return;
+      }
+      // The last report already measured m as it is now (the input, or the previous stage's
+      // output): no second pass over the mesh.
+      if (result.stages.empty()) result.targetEdgeLength = result.input.meanEdgeLength;
+      else if (params.measureEachStage) result.targetEdgeLength = result.stages.back().after.meanEdgeLength;
+      else result.targetEdgeLength = MeshQuality<MeshType>::Compute(m, NoIntersections()).meanEdgeLength;
     };
 
     const std::size_t stageCount = params.stages.size();
