@@ -779,6 +779,33 @@ TEST(CleanRawMesh, RealMeshSpecifics) {
   }
 }
 
+TEST(CleanRawMesh, SameOutputForAnyThreadCount) {
+  // PyMOL's tangle is found by the parallel intersection search and repaired: the repaired mesh
+  // must not depend on how many threads searched.
+  std::string error;
+  std::vector<std::vector<Point>> positions;
+  std::vector<std::vector<std::array<std::size_t, 3>>> faces;
+  for (int threads : {1, 2, 3}) {
+    MeshD m;
+    ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("ubiquitin_1UBQ_pymol_ses.ply"), error));
+    Clean::Params params;
+    params.threads = threads;
+    const auto r = Clean::Do(m, params);
+    ASSERT_TRUE(r.ok) << r.message;
+    EXPECT_GT(r.selfIntersectingFacesBefore, 0u);
+    positions.emplace_back();
+    faces.emplace_back();
+    for (const auto& v : m.vert) positions.back().push_back(v.cP());
+    for (const auto& f : m.face)
+      faces.back().push_back({std::size_t(vcg::tri::Index(m, f.cV(0))), std::size_t(vcg::tri::Index(m, f.cV(1))),
+                              std::size_t(vcg::tri::Index(m, f.cV(2)))});
+  }
+  for (std::size_t i = 1; i < positions.size(); ++i) {
+    EXPECT_EQ(positions[i], positions[0]);
+    EXPECT_EQ(faces[i], faces[0]);
+  }
+}
+
 // Manual: the two large meshes (a few seconds each). Run with --gtest_also_run_disabled_tests.
 TEST(CleanRawMeshLarge, DISABLED_HivProtease) { CheckRealMesh({"hivprotease_1HPV_edtsurf_mc.ply", true, 0.01}, true); }
 TEST(CleanRawMeshLarge, DISABLED_MTor) { CheckRealMesh({"mtor_4JSV_edtsurf_vcmc.ply", true, 1.0}, true); }

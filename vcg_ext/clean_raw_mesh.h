@@ -92,6 +92,7 @@
 
 #include "input_check.h"
 #include "mesh_quality.h"
+#include "parallel_for.h"
 
 namespace molremesh {
 
@@ -228,6 +229,7 @@ public:
     bool orientCavitiesInward = true;    ///< cavity components (nested in another closed one) get negative volume
     bool measureSelfIntersections = true;///< count self-intersecting faces before and after (grid accelerated)
     double maxFillDihedral = 150.0;      ///< degrees; a fill triangle never folds more than this against a neighbour
+    int threads = 0;                     ///< worker threads of the tangle search; 0 = all cores (same result)
   };
 
   /// Cleans m in place; see the file comment for the steps, the preconditions and the guarantees.
@@ -1102,14 +1104,21 @@ private:
       if (CellCount(box) > kMaxCells) big_.push_back(f);
       else ForCells(box, [&](std::uint64_t key) { added_[key].push_back(f); });
     }
+    /// Per-thread visit marks of the const Query.
+    struct Marks {
+      std::vector<std::uint32_t> stamp;
+      std::uint32_t current = 0;
+    };
     /// Live faces whose bounding box touches box (closed test), each once.
-    void Query(const MeshType& m, const vcg::Box3d& box, std::vector<Index>& out) {
+    void Query(const MeshType& m, const vcg::Box3d& box, std::vector<Index>& out) { Query(m, box, out, marks_); }
+    /// Same, thread-safe with one Marks per thread while the grid is not modified.
+    void Query(const MeshType& m, const vcg::Box3d& box, std::vector<Index>& out, Marks& marks) const {
       out.clear();
-      if (stamp_.size() < m.face.size()) stamp_.resize(m.face.size(), 0);
-      ++current_;
+      if (marks.stamp.size() < m.face.size()) marks.stamp.resize(m.face.size(), 0);
+      ++marks.current;
       auto consider = [&](Index f) {
-        if (f >= m.face.size() || stamp_[f] == current_ || m.face[f].IsD()) return;
-        stamp_[f] = current_;
+        if (f >= m.face.size() || marks.stamp[f] == marks.current || m.face[f].IsD()) return;
+        marks.stamp[f] = marks.current;
         const vcg::Box3d fb = Box(m, FaceTri(m, m.face[f]));
         for (int a = 0; a < 3; ++a)
           if (fb.max[a] < box.min[a] || box.max[a] < fb.min[a]) return;
@@ -1162,8 +1171,7 @@ private:
     std::vector<std::pair<std::uint64_t, Index>> sorted_;
     std::vector<Index> big_;
     std::unordered_map<std::uint64_t, std::vector<Index>> added_;
-    std::vector<std::uint32_t> stamp_;
-    std::uint32_t current_ = 0;
+    Marks marks_;
   };
 
   /// Closed-triangle conflict as MeshQuality counts it: no shared vertex and the triangles meet, or
@@ -1461,22 +1469,40 @@ private:
       return x;
     };
     std::vector<std::uint8_t> involved(m.face.size(), 0);
-    std::vector<Index> candidates;
-    for (Index f = 0; f < m.face.size() && intersections; ++f) {
-      if (m.face[f].IsD()) continue;
-      const Tri t = FaceTri(m, m.face[f]);
-      grid.Query(m, FaceGrid::Box(m, t, tol), candidates);
-      for (Index g : candidates) {
-        if (g <= f) continue;
-        const Tri s = FaceTri(m, m.face[g]);
-        int shared = 0;
-        for (Index a : t)
-          for (Index b : s) shared += a == b;
-        if (shared >= 2 || !Conflict(m, t, s)) continue;
-        involved[f] = involved[g] = 1;
-        const Index a = find(f), b = find(g);
-        if (a != b) parent[std::max(a, b)] = std::min(a, b);
-      }
+    if (intersections) {
+      // The search for intersecting pairs (read-only) runs in parallel, block by block; the
+      // pairs are then merged in face order, as a serial search would find them.
+      constexpr std::size_t kBlock = 2048;
+      const std::size_t blocks = (m.face.size() + kBlock - 1) / kBlock;
+      const int threads = ResolveThreadCount(params.threads);
+      std::vector<std::vector<std::pair<Index, Index>>> blockPairs(blocks);
+      std::vector<typename FaceGrid::Marks> marks(static_cast<std::size_t>(threads));
+      std::vector<std::vector<Index>> candidates(static_cast<std::size_t>(threads));
+      ParallelFor(
+          blocks, threads,
+          [&](std::size_t begin, std::size_t end, int thread) {
+            for (std::size_t block = begin; block < end; ++block)
+              for (Index f = Index(block * kBlock); f < std::min(m.face.size(), (block + 1) * kBlock); ++f) {
+                if (m.face[f].IsD()) continue;
+                const Tri t = FaceTri(m, m.face[f]);
+                grid.Query(m, FaceGrid::Box(m, t, tol), candidates[thread], marks[thread]);
+                for (Index g : candidates[thread]) {
+                  if (g <= f) continue;
+                  const Tri s = FaceTri(m, m.face[g]);
+                  int shared = 0;
+                  for (Index a : t)
+                    for (Index b : s) shared += a == b;
+                  if (shared < 2 && Conflict(m, t, s)) blockPairs[block].emplace_back(f, g);
+                }
+              }
+          },
+          1);
+      for (const auto& pairs : blockPairs)
+        for (const auto& [f, g] : pairs) {
+          involved[f] = involved[g] = 1;
+          const Index a = find(f), b = find(g);
+          if (a != b) parent[std::max(a, b)] = std::min(a, b);
+        }
     }
     for (const auto& [f, g] : orientationConflicts) {
       if (m.face[f].IsD() || m.face[g].IsD()) continue;

@@ -227,9 +227,12 @@ public:
       }
       // The last report already measured m as it is now (the input, or the previous stage's
       // output): no second pass over the mesh.
-      if (result.stages.empty()) result.targetEdgeLength = result.input.meanEdgeLength;
-      else if (params.measureEachStage) result.targetEdgeLength = result.stages.back().after.meanEdgeLength;
-      else result.targetEdgeLength = MeshQuality<MeshType>::Compute(m, NoIntersections()).meanEdgeLength;
+      if (result.stages.empty())
+        result.targetEdgeLength = result.input.meanEdgeLength;
+      else if (params.measureEachStage)
+        result.targetEdgeLength = result.stages.back().after.meanEdgeLength;
+      else
+        result.targetEdgeLength = MeshQuality<MeshType>::Compute(m, NoIntersections()).meanEdgeLength;
     };
 
     const std::size_t stageCount = params.stages.size();
@@ -264,6 +267,7 @@ public:
       switch (stage) {
       case PipelineStage::Clean: {
         auto cleanParams = params.clean;
+        cleanParams.threads = params.threads;
         // Its own before/after intersection counts would repeat the pipeline's input report and
         // final report (two grid sweeps), unless it is the last stage or every stage is checked.
         if (!params.intersectionsEachStage && s + 1 < stageCount)
