@@ -797,7 +797,8 @@ TEST(CleanRawMesh, SameOutputForAnyThreadCount) {
     faces.emplace_back();
     for (const auto& v : m.vert) positions.back().push_back(v.cP());
     for (const auto& f : m.face)
-      faces.back().push_back({std::size_t(vcg::tri::Index(m, f.cV(0))), std::size_t(vcg::tri::Index(m, f.cV(1))),
+      faces.back().push_back({std::size_t(vcg::tri::Index(m, f.cV(0))),
+                              std::size_t(vcg::tri::Index(m, f.cV(1))),
                               std::size_t(vcg::tri::Index(m, f.cV(2)))});
   }
   for (std::size_t i = 1; i < positions.size(); ++i) {

@@ -1110,7 +1110,9 @@ private:
       std::uint32_t current = 0;
     };
     /// Live faces whose bounding box touches box (closed test), each once.
-    void Query(const MeshType& m, const vcg::Box3d& box, std::vector<Index>& out) { Query(m, box, out, marks_); }
+    void Query(const MeshType& m, const vcg::Box3d& box, std::vector<Index>& out) {
+      Query(m, box, out, marks_);
+    }
     /// Same, thread-safe with one Marks per thread while the grid is not modified.
     void Query(const MeshType& m, const vcg::Box3d& box, std::vector<Index>& out, Marks& marks) const {
       out.clear();

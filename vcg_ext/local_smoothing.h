@@ -154,10 +154,11 @@ private:
     small = obtuse = 0;
     angleMin = 180.0;
     angleMax = 0.0;
-    for (const FaceType& f : m.face) {
-      if (f.IsD()) continue;
-      double lo, hi;
-      FaceAngleRange(f, lo, hi);
+    std::vector<std::array<double, 2>> ranges;
+    FaceAngleRanges(m, p.threads, ranges);
+    for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
+      if (m.face[fi].IsD()) continue;
+      const auto [lo, hi] = ranges[fi];
       angleMin = std::min(angleMin, lo);
       angleMax = std::max(angleMax, hi);
       const bool s = lo < p.minAngleDeg, o = hi >= p.maxAngleDeg;
@@ -176,6 +177,15 @@ private:
     void Add(const Point& a, const Point& b, const Point& c, const Params& p) {
       double lo, hi;
       TriangleAngleRange(a, b, c, lo, hi);
+      Add(lo, hi, p);
+    }
+    /// The shape of one triangle with angle range [lo, hi].
+    static Shape OfRange(double lo, double hi, const Params& p) {
+      Shape s;
+      s.Add(lo, hi, p);
+      return s;
+    }
+    void Add(double lo, double hi, const Params& p) {
       minDeg = std::min(minDeg, lo);
       maxDeg = std::max(maxDeg, hi);
       const bool s = lo < p.minAngleDeg, o = hi >= p.maxAngleDeg;
@@ -251,10 +261,10 @@ private:
 
     void CollectBad() {
       bad_.clear();
+      FaceAngleRanges(m_, params_.threads, ranges_);
       for (std::size_t fi = 0; fi < m_.face.size(); ++fi) {
-        const FaceType& f = m_.face[fi];
-        if (f.IsD()) continue;
-        const Shape s = FaceShape(f);
+        if (m_.face[fi].IsD()) continue;
+        const Shape s = Shape::OfRange(ranges_[fi][0], ranges_[fi][1], params_);
         if (s.bad) bad_.emplace_back(-s.excess, std::uint32_t(fi));
       }
       std::sort(bad_.begin(), bad_.end());
@@ -413,6 +423,7 @@ private:
     double L_;
     typename Reference::Scratch scratch_;
     std::vector<std::pair<double, std::uint32_t>> bad_;
+    std::vector<std::array<double, 2>> ranges_; ///< scratch of CollectBad
   };
 };
 

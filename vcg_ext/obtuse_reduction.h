@@ -138,7 +138,7 @@ public:
 
     const double lowest = *std::min_element(params.thresholdsDeg.begin(), params.thresholdsDeg.end());
     std::size_t above = 0;
-    Measure(m, lowest, r.obtuseBefore, above, r.angleMinBefore, r.angleMaxBefore);
+    Measure(m, lowest, params.threads, r.obtuseBefore, above, r.angleMinBefore, r.angleMaxBefore);
     if (above == 0 && (!params.pentagonInsertion || r.obtuseBefore == 0)) { // nothing to do: a scan only
       r.obtuseAfter = r.obtuseBefore;
       r.angleMaxAfter = r.angleMaxBefore;
@@ -155,7 +155,7 @@ public:
     ops.Finish();
     UpdateFaceFaceTopology(m);
     vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
-    Measure(m, lowest, r.obtuseAfter, above, r.angleMinAfter, r.angleMaxAfter);
+    Measure(m, lowest, params.threads, r.obtuseAfter, above, r.angleMinAfter, r.angleMaxAfter);
     return finish(true, "obtuse reduction: " + std::to_string(r.obtuseBefore) + " -> " +
                             std::to_string(r.obtuseAfter) + " obtuse faces");
   }
@@ -164,15 +164,16 @@ private:
   static constexpr double kPi = 3.14159265358979323846;
   static Point P(const VertexType* v) { return Ops::ToPoint(v->cP()); }
 
-  static void Measure(const MeshType& m, double threshold, std::size_t& obtuse, std::size_t& above,
-                      double& angleMin, double& angleMax) {
+  static void Measure(const MeshType& m, double threshold, int threads, std::size_t& obtuse,
+                      std::size_t& above, double& angleMin, double& angleMax) {
     obtuse = above = 0;
     angleMin = 180.0;
     angleMax = 0.0;
-    for (const FaceType& f : m.face) {
-      if (f.IsD()) continue;
-      double lo, hi;
-      FaceAngleRange(f, lo, hi);
+    std::vector<std::array<double, 2>> ranges;
+    FaceAngleRanges(m, threads, ranges);
+    for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
+      if (m.face[fi].IsD()) continue;
+      const auto [lo, hi] = ranges[fi];
       angleMin = std::min(angleMin, lo);
       angleMax = std::max(angleMax, hi);
       if (hi >= 90.0) ++obtuse;
@@ -217,10 +218,10 @@ private:
     /// Faces with a largest angle above t (>= when t is 90: obtuse), worst first.
     void Collect(double t) {
       faces_.clear();
+      FaceAngleRanges(m_, params_.threads, ranges_);
       for (std::size_t fi = 0; fi < m_.face.size(); ++fi) {
-        const FaceType& f = m_.face[fi];
-        if (f.IsD()) continue;
-        const double a = MaxAngle(f);
+        if (m_.face[fi].IsD()) continue;
+        const double a = ranges_[fi][1];
         if (a > t || (t == 90.0 && a >= t)) faces_.emplace_back(-a, std::uint32_t(fi));
       }
       std::sort(faces_.begin(), faces_.end());
@@ -409,6 +410,7 @@ private:
     const Params& params_;
     typename Reference::Scratch scratch_;
     std::vector<std::pair<double, std::uint32_t>> faces_;
+    std::vector<std::array<double, 2>> ranges_; ///< scratch of Collect
     std::vector<Candidate> candidates_;
     std::vector<FacePointer> region_;
     std::vector<VertexPointer> loop_, interior_;

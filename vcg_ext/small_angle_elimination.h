@@ -136,7 +136,7 @@ public:
     if (!PrepareLocalStage(m, reference, params.targetEdgeLength, L, error))
       return finish(false, refused + error);
 
-    r.smallFacesBefore = CountSmall(m, params.minAngleDeg, r.angleMinBefore);
+    r.smallFacesBefore = CountSmall(m, params.minAngleDeg, params.threads, r.angleMinBefore);
     if (r.smallFacesBefore == 0) { // the fast path: nothing to do
       r.smallFacesAfter = 0;
       r.angleMinAfter = r.angleMinBefore;
@@ -151,7 +151,7 @@ public:
     session.Run(r);
     double angleMin = 0;
     if (params.creaseNormalDeviationDeg > guards.maxNormalDeviationDeg &&
-        CountSmall(m, params.minAngleDeg, angleMin) > 0) {
+        CountSmall(m, params.minAngleDeg, params.threads, angleMin) > 0) {
       LocalOpsGuards crease = guards;
       crease.maxNormalDeviationDeg = params.creaseNormalDeviationDeg;
       ops.SetGuards(crease);
@@ -165,7 +165,7 @@ public:
     ops.Finish();
     UpdateFaceFaceTopology(m);
     vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
-    r.smallFacesAfter = CountSmall(m, params.minAngleDeg, r.angleMinAfter);
+    r.smallFacesAfter = CountSmall(m, params.minAngleDeg, params.threads, r.angleMinAfter);
     return finish(true, "small-angle elimination: " + std::to_string(r.smallFacesBefore) + " -> " +
                             std::to_string(r.smallFacesAfter) + " faces with an angle below " +
                             std::to_string(params.minAngleDeg));
@@ -176,13 +176,14 @@ private:
 
   static Point P(const VertexType* v) { return Ops::ToPoint(v->cP()); }
 
-  static std::size_t CountSmall(const MeshType& m, double minAngleDeg, double& angleMin) {
+  static std::size_t CountSmall(const MeshType& m, double minAngleDeg, int threads, double& angleMin) {
     std::size_t n = 0;
     angleMin = 180.0;
-    for (const FaceType& f : m.face) {
-      if (f.IsD()) continue;
-      double lo, hi;
-      FaceAngleRange(f, lo, hi);
+    std::vector<std::array<double, 2>> ranges;
+    FaceAngleRanges(m, threads, ranges);
+    for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
+      if (m.face[fi].IsD()) continue;
+      const double lo = ranges[fi][0];
       angleMin = std::min(angleMin, lo);
       if (lo < minAngleDeg) ++n;
     }
@@ -248,10 +249,10 @@ private:
     /// Faces with a small angle, worst first (index breaks ties).
     void CollectBad() {
       bad_.clear();
+      FaceAngleRanges(m_, params_.threads, ranges_);
       for (std::size_t fi = 0; fi < m_.face.size(); ++fi) {
-        const FaceType& f = m_.face[fi];
-        if (f.IsD()) continue;
-        const double a = MinAngle(f);
+        if (m_.face[fi].IsD()) continue;
+        const double a = ranges_[fi][0];
         if (a < Threshold()) bad_.emplace_back(a, std::uint32_t(fi));
       }
       std::sort(bad_.begin(), bad_.end());
@@ -533,6 +534,7 @@ private:
     double L_;
     typename Reference::Scratch scratch_;
     std::vector<std::pair<double, std::uint32_t>> bad_;
+    std::vector<std::array<double, 2>> ranges_; ///< scratch of CollectBad
     std::vector<Candidate> candidates_;
     std::vector<FacePointer> region_;
     std::vector<VertexPointer> loop_, interior_;

@@ -10,9 +10,13 @@
 
 #include <vcg/space/point3.h>
 
+#include <vcg_ext/parallel_for.h>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
+#include <vector>
 
 namespace molremesh {
 
@@ -46,6 +50,21 @@ vcg::Point3d PositionOf(const VertexType* v) {
 template <class FaceType>
 void FaceAngleRange(const FaceType& f, double& minDeg, double& maxDeg) {
   TriangleAngleRange(PositionOf(f.cV(0)), PositionOf(f.cV(1)), PositionOf(f.cV(2)), minDeg, maxDeg);
+}
+
+/// FaceAngleRange of every face of m, indexed like m.face ({180, 0} for a deleted face: no angle),
+/// computed on `threads` threads (0 = all cores). The values are exactly the serial ones: the
+/// stages scan the whole mesh with this before and after their edits, and their rounds select
+/// faces from it.
+template <class MeshType>
+void FaceAngleRanges(const MeshType& m, int threads, std::vector<std::array<double, 2>>& ranges) {
+  ranges.resize(m.face.size());
+  ParallelFor(m.face.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t fi = begin; fi < end; ++fi) {
+      ranges[fi] = {180.0, 0.0};
+      if (!m.face[fi].IsD()) FaceAngleRange(m.face[fi], ranges[fi][0], ranges[fi][1]);
+    }
+  });
 }
 
 /// Worst angles of a set of triangles and how many of them have an angle below a threshold: what
