@@ -342,36 +342,61 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
 
 template <class MeshType>
 void ReferenceSurface<MeshType>::BuildAdjacency(const std::vector<std::array<std::uint32_t, 3>>& tris) {
-  // Sorted (edge key, face) table; faces sharing an edge are mutual neighbours (all of them
-  // on a non-manifold edge).
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
-  edges.reserve(tris.size() * 3);
-  for (std::size_t f = 0; f < tris.size(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const std::uint64_t a = tris[f][k], b = tris[f][(k + 1) % 3];
-      edges.emplace_back((std::min(a, b) << 32) | std::max(a, b), std::uint32_t(f));
-    }
-  std::sort(edges.begin(), edges.end());
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  pairs.reserve(edges.size());
-  std::vector<std::uint8_t> onOddEdge(faceCount_, 0); // on an edge without exactly two faces
-  for (std::size_t i = 0; i < edges.size();) {
-    std::size_t j = i;
-    while (j < edges.size() && edges[j].first == edges[i].first) ++j;
-    if (j - i != 2)
-      for (std::size_t a = i; a < j; ++a) onOddEdge[edges[a].second] = 1;
-    for (std::size_t a = i; a < j; ++a)
-      for (std::size_t b = i; b < j; ++b)
-        if (a != b && edges[a].second != edges[b].second) pairs.emplace_back(edges[a].second, edges[b].second);
-    i = j;
+  // Faces sharing an edge are mutual neighbours (all of them on a non-manifold edge). The face
+  // sides are bucketed by their smaller vertex (a counting sort, linear in the faces) and matched
+  // within each bucket by their other vertex.
+  std::uint32_t vertexCount = 0;
+  for (const auto& t : tris) vertexCount = std::max({vertexCount, t[0] + 1, t[1] + 1, t[2] + 1});
+  std::vector<std::uint32_t> bucketStart(std::size_t(vertexCount) + 1, 0);
+  for (const auto& t : tris)
+    for (int k = 0; k < 3; ++k) ++bucketStart[std::min(t[k], t[(k + 1) % 3]) + 1];
+  for (std::uint32_t v = 0; v < vertexCount; ++v) bucketStart[v + 1] += bucketStart[v];
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> sides(tris.size() * 3); // (larger vertex, face)
+  {
+    std::vector<std::uint32_t> fill(bucketStart.begin(), bucketStart.end() - 1);
+    for (std::size_t f = 0; f < tris.size(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const std::uint32_t a = tris[f][k], b = tris[f][(k + 1) % 3];
+        sides[fill[std::min(a, b)]++] = {std::max(a, b), std::uint32_t(f)};
+      }
   }
-  std::sort(pairs.begin(), pairs.end());
-  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  std::vector<std::uint8_t> onOddEdge(faceCount_, 0); // on an edge without exactly two faces
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs; // (face, neighbour)
+  pairs.reserve(sides.size());
+  for (std::uint32_t v = 0; v < vertexCount; ++v) {
+    const auto first = sides.begin() + bucketStart[v], last = sides.begin() + bucketStart[v + 1];
+    std::sort(first, last);
+    for (auto i = first; i != last;) {
+      auto j = i;
+      while (j != last && j->first == i->first) ++j;
+      if (j - i != 2)
+        for (auto a = i; a != j; ++a) onOddEdge[a->second] = 1;
+      for (auto a = i; a != j; ++a)
+        for (auto b = i; b != j; ++b)
+          if (a->second != b->second) pairs.emplace_back(a->second, b->second);
+      i = j;
+    }
+  }
+  // CSR of the neighbours, each face's list sorted and without repeats.
   neighborStart_.assign(faceCount_ + 1, 0);
   for (const auto& pr : pairs) ++neighborStart_[pr.first + 1];
   for (std::size_t f = 0; f < faceCount_; ++f) neighborStart_[f + 1] += neighborStart_[f];
   neighbors_.resize(pairs.size());
-  for (std::size_t i = 0; i < pairs.size(); ++i) neighbors_[i] = pairs[i].second;
+  {
+    std::vector<std::uint32_t> fill(neighborStart_.begin(), neighborStart_.end() - 1);
+    for (const auto& [f, g] : pairs) neighbors_[fill[f]++] = g;
+  }
+  std::size_t kept = 0;
+  for (std::size_t f = 0; f < faceCount_; ++f) {
+    const auto first = neighbors_.begin() + neighborStart_[f],
+               last = neighbors_.begin() + neighborStart_[f + 1];
+    std::sort(first, last);
+    const auto end = std::unique(first, last);
+    neighborStart_[f] = std::uint32_t(kept);
+    for (auto it = first; it != end; ++it) neighbors_[kept++] = *it;
+  }
+  neighborStart_[faceCount_] = std::uint32_t(kept);
+  neighbors_.resize(kept);
 
   // Components through shared edges (numbered by their lowest face), closedness, volume.
   component_.assign(faceCount_, -1);
