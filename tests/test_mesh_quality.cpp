@@ -10,9 +10,12 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <random>
+#include <tuple>
 #include <vector>
 
 #include "remeshing_test_meshes.h"
@@ -892,6 +895,116 @@ TEST(MeshQuality, RealMoleculeBptiMsms) {
   EXPECT_GT(r.volume, 0.0); // outward orientation
   EXPECT_EQ(SumHistogram(r), int(r.interiorVertices));
   for (const auto& c : r.componentInfo) EXPECT_TRUE(c.closed);
+}
+
+// ----------------------------------------------------------------------------------------------
+// Thread count: the figures are bit-identical whatever the number of worker threads
+// ----------------------------------------------------------------------------------------------
+
+/// Bit pattern of a double: equal figures must be equal to the last bit (and in the sign of zero).
+std::uint64_t Bits(double value) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+void ExpectSameReport(const molremesh::QualityReport& a, const molremesh::QualityReport& b) {
+  EXPECT_EQ(a.vertices, b.vertices);
+  EXPECT_EQ(a.referencedVertices, b.referencedVertices);
+  EXPECT_EQ(a.unreferencedVertices, b.unreferencedVertices);
+  EXPECT_EQ(a.nonFiniteVertices, b.nonFiniteVertices);
+  EXPECT_EQ(a.faces, b.faces);
+  EXPECT_EQ(a.edges, b.edges);
+  for (const auto& [name, x, y] : std::vector<std::tuple<const char*, double, double>>{
+           {"qMin", a.qMin, b.qMin},
+           {"qAvg", a.qAvg, b.qAvg},
+           {"angleMin", a.angleMin, b.angleMin},
+           {"meanMinAngle", a.meanMinAngle, b.meanMinAngle},
+           {"angleMax", a.angleMax, b.angleMax},
+           {"aspectRatioMax", a.aspectRatioMax, b.aspectRatioMax},
+           {"aspectRatioMean", a.aspectRatioMean, b.aspectRatioMean},
+           {"aspectRatioMeanNonDegenerate", a.aspectRatioMeanNonDegenerate, b.aspectRatioMeanNonDegenerate},
+           {"smallAnglePercent", a.smallAnglePercent, b.smallAnglePercent},
+           {"obtusePercent", a.obtusePercent, b.obtusePercent},
+           {"largeAnglePercent", a.largeAnglePercent, b.largeAnglePercent},
+           {"v567Percent", a.v567Percent, b.v567Percent},
+           {"area", a.area, b.area},
+           {"volume", a.volume, b.volume},
+           {"meanEdgeLength", a.meanEdgeLength, b.meanEdgeLength},
+           {"medianEdgeLength", a.medianEdgeLength, b.medianEdgeLength}})
+    EXPECT_EQ(Bits(x), Bits(y)) << name << ": " << x << " vs " << y;
+  EXPECT_EQ(a.smallAngleFaces, b.smallAngleFaces);
+  EXPECT_EQ(a.obtuseFaces, b.obtuseFaces);
+  EXPECT_EQ(a.largeAngleFaces, b.largeAngleFaces);
+  EXPECT_EQ(a.interiorVertices, b.interiorVertices);
+  EXPECT_EQ(a.regularVertices, b.regularVertices);
+  EXPECT_EQ(a.valenceHistogram, b.valenceHistogram);
+  EXPECT_EQ(a.euler, b.euler);
+  EXPECT_EQ(a.genus, b.genus);
+  EXPECT_EQ(a.components, b.components);
+  ASSERT_EQ(a.componentInfo.size(), b.componentInfo.size());
+  for (std::size_t c = 0; c < a.componentInfo.size(); ++c) {
+    const molremesh::ComponentInfo &x = a.componentInfo[c], &y = b.componentInfo[c];
+    EXPECT_EQ(x.faces, y.faces) << "component " << c;
+    EXPECT_EQ(x.boundaryEdges, y.boundaryEdges) << "component " << c;
+    EXPECT_EQ(x.manifold, y.manifold) << "component " << c;
+    EXPECT_EQ(x.closed, y.closed) << "component " << c;
+    EXPECT_EQ(x.euler, y.euler) << "component " << c;
+    EXPECT_EQ(x.genus, y.genus) << "component " << c;
+    EXPECT_EQ(x.boundaryLoops, y.boundaryLoops) << "component " << c;
+  }
+  EXPECT_EQ(a.boundaryEdges, b.boundaryEdges);
+  EXPECT_EQ(a.boundaryLoops, b.boundaryLoops);
+  EXPECT_EQ(a.nonManifoldEdges, b.nonManifoldEdges);
+  EXPECT_EQ(a.nonManifoldVertices, b.nonManifoldVertices);
+  EXPECT_EQ(a.degenerateFaces, b.degenerateFaces);
+  EXPECT_EQ(a.selfIntersectingPairs, b.selfIntersectingPairs);
+  EXPECT_EQ(a.adjacentOverlapPairs, b.adjacentOverlapPairs);
+  EXPECT_EQ(a.selfIntersectingFaces, b.selfIntersectingFaces);
+  EXPECT_EQ(a.selfIntersectionsComputed, b.selfIntersectionsComputed);
+}
+
+/// Compute with 2 and 3 threads gives exactly the figures of 1 thread, with and without the
+/// self-intersections.
+void ExpectSameForAnyThreadCount(const MeshD& m) {
+  for (const bool intersections : {true, false}) {
+    Quality::Params params;
+    params.computeSelfIntersections = intersections;
+    params.threads = 1;
+    const auto serial = Quality::Compute(m, params);
+    for (const int threads : {2, 3}) {
+      SCOPED_TRACE(testing::Message() << threads << " threads, self-intersections " << intersections);
+      params.threads = threads;
+      ExpectSameReport(Quality::Compute(m, params), serial);
+    }
+  }
+}
+
+TEST(MeshQuality, SameFiguresForAnyThreadCountOnARealMolecule) {
+  // The raw PyMOL surface of 1MAH: 56k faces with non-manifold edges, self-intersecting and
+  // overlapping pairs and several components, so every part of the report has something to count.
+  const char* path = MOLREMESH_SHARED_DATA_DIR "/meshes/ache_1MAH_pymol_ses.ply";
+  if (!std::ifstream(path).good()) GTEST_SKIP() << "missing " << path;
+  MeshD m;
+  ASSERT_EQ(vcg::tri::io::ImporterPLY<MeshD>::Open(m, path), 0) << path;
+  const auto r = Quality::Compute(m);
+  EXPECT_GT(r.nonManifoldEdges, 0u);
+  EXPECT_GT(r.selfIntersectingPairs + r.adjacentOverlapPairs, 0u);
+  ExpectSameForAnyThreadCount(m);
+}
+
+TEST(MeshQuality, SameFiguresForAnyThreadCountWithOversizedAndNonFiniteFaces) {
+  // A vertex sent far away (its faces take the "oversized" path of the grid), one made NaN
+  // (degenerate faces) and a dent through the far side (self-intersections).
+  MeshD m;
+  MakeIcosphere(m, 5); // 20480 faces
+  m.vert[0].P() = m.vert[0].P() * 1e12;
+  m.vert[1].P() = Point(kNaN, 0, 0);
+  m.vert[2].P() = -m.vert[2].P() * 1.3;
+  const auto r = Quality::Compute(m);
+  EXPECT_GT(r.degenerateFaces, 0u);
+  EXPECT_GT(r.selfIntersectingPairs, 0u);
+  ExpectSameForAnyThreadCount(m);
 }
 
 } // namespace

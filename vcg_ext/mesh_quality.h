@@ -30,6 +30,8 @@
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -124,6 +126,7 @@ public:
     double largeAngle = 120.0;           ///< degrees; faces with an angle above it are "large"
     bool computeSelfIntersections = true;///< the only super-linear part; grid accelerated
     double degenerateAreaEpsilon = 1e-12;///< relative to squared median edge length
+    int threads = 0;                     ///< worker threads; 0 = all cores (the figures do not depend on it)
   };
 
   /// Measures m. m is not modified; deleted elements are skipped.
@@ -487,6 +490,41 @@ struct IntersectionCounts {
   std::size_t faces = 0;         ///< faces in at least one such pair
 };
 
+/// Sorts v, whose elements must be distinct, on `threads` threads: chunks are sorted in parallel
+/// and then merged pairwise. Distinct elements have one sorted order, so the result is the one
+/// std::sort gives, whatever the thread count.
+template <class T>
+void SortDistinct(std::vector<T>& v, int threads) {
+  constexpr std::size_t kMinChunk = 1 << 16; // below that, a thread costs more than it saves
+  const std::size_t chunks =
+      std::max<std::size_t>(1, std::min(std::size_t(ResolveThreadCount(threads)), v.size() / kMinChunk));
+  if (chunks == 1) {
+    std::sort(v.begin(), v.end());
+    return;
+  }
+  std::vector<std::size_t> bound(chunks + 1);
+  for (std::size_t c = 0; c <= chunks; ++c) bound[c] = v.size() * c / chunks;
+  auto at = [&](std::vector<T>& w, std::size_t chunk) {
+    return w.begin() + std::ptrdiff_t(bound[std::min(chunk, chunks)]);
+  };
+  auto sortChunks = [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t c = begin; c < end; ++c) std::sort(at(v, c), at(v, c + 1));
+  };
+  ParallelFor(chunks, threads, sortChunks, 1);
+  std::vector<T> merged(v.size());
+  for (std::size_t width = 1; width < chunks; width *= 2) {
+    // Runs of `width` chunks, merged two by two.
+    auto mergeRuns = [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t k = begin; k < end; ++k) {
+        const std::size_t c = 2 * width * k;
+        std::merge(at(v, c), at(v, c + width), at(v, c + width), at(v, c + 2 * width), at(merged, c));
+      }
+    };
+    ParallelFor((chunks + 2 * width - 1) / (2 * width), threads, mergeRuns, 1);
+    v.swap(merged);
+  }
+}
+
 /// Counts intersecting pairs among the given (non-degenerate, finite) triangles.
 ///
 /// Broad phase: a uniform grid of cells two median edge lengths wide (the median, unlike the
@@ -496,19 +534,27 @@ struct IntersectionCounts {
 /// tested against every face, and the cell size doubles while that or the hashed entries would
 /// cost too much. Each pair is tested once, in the cell holding the lowest corner of the overlap
 /// of the two cell ranges (no pair set needed; aliased cells cannot repeat a pair because a
-/// hashed face spans fewer than 2^21 cells per axis). Sequential, hence deterministic.
+/// hashed face spans fewer than 2^21 cells per axis).
+///
+/// Parallel on `threads` threads, yet deterministic: per-face data are computed into per-face
+/// arrays, cells are tested in parallel into per-thread lists of intersecting pairs, and the
+/// figures are counted from those lists. Every pair is tested exactly once whichever thread
+/// tests it, so the counts do not depend on the thread count.
 inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
-                                                 const std::vector<Point>& points, double medianEdge) {
+                                                 const std::vector<Point>& points, double medianEdge,
+                                                 int threads) {
   IntersectionCounts result;
   const std::size_t n = tris.size();
   if (n < 2) return result;
+  threads = ResolveThreadCount(threads);
 
   std::vector<vcg::Box3d> boxes(n);
+  ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i)
+      for (Index v : tris[i]) boxes[i].Add(points[v]);
+  });
   vcg::Box3d all;
-  for (std::size_t i = 0; i < n; ++i) {
-    for (Index v : tris[i]) boxes[i].Add(points[v]);
-    all.Add(boxes[i]);
-  }
+  for (const vcg::Box3d& box : boxes) all.Add(box);
 
   constexpr double kMaxSpan = 512;          // cells a hashed face may cover
   constexpr int kAxisBits = 21;             // 3 * 21 bits of cell key
@@ -520,86 +566,121 @@ inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<In
 
   std::vector<std::array<std::int64_t, 3>> low(n); // lowest cell of each face, unwrapped
   std::vector<std::array<std::int64_t, 3>> high(n);
-  std::vector<bool> oversized(n, false);
+  std::vector<std::uint64_t> cellCount(n); // cells a face is hashed into: 0 when oversized
   std::vector<Index> oversizedList;
   std::uint64_t entries = 0;
   for (;;) {
     entries = 0;
     oversizedList.clear();
     // Cell coordinates must stay far inside int64.
-    bool fits = maxExtent / cell < 1e15;
-    for (std::size_t i = 0; i < n && fits; ++i) {
-      double span = 1;
-      for (int a = 0; a < 3; ++a) {
-        low[i][a] = std::int64_t(std::floor((boxes[i].min[a] - all.min[a]) / cell));
-        high[i][a] = std::int64_t(std::floor((boxes[i].max[a] - all.min[a]) / cell));
-        span *= double(high[i][a] - low[i][a] + 1);
+    const bool fits = maxExtent / cell < 1e15;
+    if (fits) {
+      ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
+        for (std::size_t i = begin; i < end; ++i) {
+          double span = 1;
+          for (int a = 0; a < 3; ++a) {
+            low[i][a] = std::int64_t(std::floor((boxes[i].min[a] - all.min[a]) / cell));
+            high[i][a] = std::int64_t(std::floor((boxes[i].max[a] - all.min[a]) / cell));
+            span *= double(high[i][a] - low[i][a] + 1);
+          }
+          cellCount[i] = span > kMaxSpan ? 0 : std::uint64_t(span);
+        }
+      });
+      for (std::size_t i = 0; i < n; ++i) {
+        if (cellCount[i] == 0) oversizedList.push_back(Index(i));
+        entries += cellCount[i];
       }
-      oversized[i] = span > kMaxSpan;
-      if (oversized[i]) oversizedList.push_back(Index(i));
-      else entries += std::uint64_t(span);
     }
     if (fits && entries + std::uint64_t(oversizedList.size()) * n <= budget) break;
     cell *= 2.0;
   }
 
   std::vector<PlanarTriangle> planar(n);
-  for (std::size_t i = 0; i < n; ++i)
-    planar[i] = MakePlanarTriangle(points[tris[i][0]], points[tris[i][1]], points[tris[i][2]]);
-  std::vector<bool> involved(n, false);
+  ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i)
+      planar[i] = MakePlanarTriangle(points[tris[i][0]], points[tris[i][1]], points[tris[i][2]]);
+  });
 
-  auto testPair = [&](Index i, Index j) {
+  // Intersecting pairs found by each thread; `adjacent` tells the kind.
+  struct Hit {
+    Index i, j;
+    bool adjacent;
+  };
+  std::vector<std::vector<Hit>> hits(static_cast<std::size_t>(threads));
+  auto testPair = [&](Index i, Index j, std::vector<Hit>& out) {
     if (!BoxesTouch(boxes[i], boxes[j])) return;
     int shared = 0, ci = -1, cj = -1;
     for (int u = 0; u < 3; ++u)
       for (int w = 0; w < 3; ++w)
         if (tris[i][u] == tris[j][w]) ++shared, ci = u, cj = w;
     if (shared > 1) return;
-    bool hit = false;
     if (shared == 0 && TrianglesIntersect(planar[i], planar[j])) {
-      ++result.disjointPairs;
-      hit = true;
+      out.push_back({i, j, false});
     } else if (shared == 1 && SharedCornerOverlap(planar[i], ci, planar[j], cj)) {
-      ++result.adjacentPairs;
-      hit = true;
+      out.push_back({i, j, true});
     }
-    if (hit) involved[i] = involved[j] = true;
   };
 
   // Oversized faces against everything (each oversized pair once, from its lower index).
   for (Index o : oversizedList)
-    for (Index j = 0; j < n; ++j)
-      if (j != o && (!oversized[j] || j > o)) testPair(o, j);
+    ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int thread) {
+      for (std::size_t j = begin; j < end; ++j)
+        if (j != o && (cellCount[j] != 0 || j > o)) testPair(o, Index(j), hits[thread]);
+    });
 
   // Hashed faces: (wrapped cell key, face), sorted so each cell's faces are contiguous.
   auto wrappedKey = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
     return (std::uint64_t(z & kAxisMask) << (2 * kAxisBits)) | (std::uint64_t(y & kAxisMask) << kAxisBits) |
            std::uint64_t(x & kAxisMask);
   };
-  std::vector<std::pair<std::uint64_t, Index>> cellFaces;
-  cellFaces.reserve(entries);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (oversized[i]) continue;
-    for (std::int64_t z = low[i][2]; z <= high[i][2]; ++z)
-      for (std::int64_t y = low[i][1]; y <= high[i][1]; ++y)
-        for (std::int64_t x = low[i][0]; x <= high[i][0]; ++x) cellFaces.emplace_back(wrappedKey(x, y, z), Index(i));
+  std::vector<std::pair<std::uint64_t, Index>> cellFaces(entries);
+  {
+    std::vector<std::uint64_t> first(n); // where the entries of face i start
+    std::uint64_t sum = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      first[i] = sum;
+      sum += cellCount[i];
+    }
+    ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t i = begin; i < end; ++i) {
+        if (cellCount[i] == 0) continue;
+        std::uint64_t k = first[i];
+        for (std::int64_t z = low[i][2]; z <= high[i][2]; ++z)
+          for (std::int64_t y = low[i][1]; y <= high[i][1]; ++y)
+            for (std::int64_t x = low[i][0]; x <= high[i][0]; ++x)
+              cellFaces[k++] = {wrappedKey(x, y, z), Index(i)};
+      }
+    });
   }
-  std::sort(cellFaces.begin(), cellFaces.end());
+  // A face is in a cell once (it spans fewer than 2^21 cells per axis): the entries are distinct.
+  SortDistinct(cellFaces, threads);
 
-  for (std::size_t begin = 0; begin < cellFaces.size();) {
-    std::size_t end = begin;
-    while (end < cellFaces.size() && cellFaces[end].first == cellFaces[begin].first) ++end;
-    for (std::size_t s = begin; s < end; ++s) {
-      const Index i = cellFaces[s].second;
-      for (std::size_t r = s + 1; r < end; ++r) {
-        const Index j = cellFaces[r].second;
-        const std::uint64_t canonical =
-            wrappedKey(std::max(low[i][0], low[j][0]), std::max(low[i][1], low[j][1]), std::max(low[i][2], low[j][2]));
-        if (canonical == cellFaces[begin].first) testPair(i, j);
+  std::vector<std::size_t> cellStart; // runs of equal keys, and the end
+  for (std::size_t k = 0; k < cellFaces.size(); ++k)
+    if (k == 0 || cellFaces[k].first != cellFaces[k - 1].first) cellStart.push_back(k);
+  cellStart.push_back(cellFaces.size());
+  auto testCells = [&](std::size_t cBegin, std::size_t cEnd, int thread) {
+    for (std::size_t c = cBegin; c < cEnd; ++c) {
+      const std::size_t begin = cellStart[c], end = cellStart[c + 1];
+      for (std::size_t s = begin; s < end; ++s) {
+        const Index i = cellFaces[s].second;
+        for (std::size_t r = s + 1; r < end; ++r) {
+          const Index j = cellFaces[r].second;
+          const std::uint64_t canonical = wrappedKey(
+              std::max(low[i][0], low[j][0]), std::max(low[i][1], low[j][1]), std::max(low[i][2], low[j][2]));
+          if (canonical == cellFaces[begin].first) testPair(i, j, hits[thread]);
+        }
       }
     }
-    begin = end;
-  }
+  };
+  ParallelFor(cellStart.size() - 1, threads, testCells, 256); // cells hold few faces: smaller blocks
+
+  std::vector<bool> involved(n, false);
+  for (const std::vector<Hit>& list : hits)
+    for (const Hit& hit : list) {
+      ++(hit.adjacent ? result.adjacentPairs : result.disjointPairs);
+      involved[hit.i] = involved[hit.j] = true;
+    }
   result.faces = std::size_t(std::count(involved.begin(), involved.end(), true));
   return result;
 }
@@ -854,37 +935,67 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
   r.aspectRatioMax = 0;
   std::vector<std::array<Index, 3>> candidates; // non-degenerate faces, for self-intersections
   candidates.reserve(nf);
-  for (std::size_t f = 0; f < nf; ++f) {
-    TriangleShape shape;
-    if (t.proper[f]) {
-      const auto& tri = t.faces[f];
-      shape = ShapeOf(points[tri[0]], points[tri[1]], points[tri[2]], degenerateArea);
-      if (finite[tri[0]] && finite[tri[1]] && finite[tri[2]]) {
-        r.area += shape.area;
-        volumeSum += (points[tri[0]] - centroid) * ((points[tri[1]] - centroid) ^ (points[tri[2]] - centroid));
+  {
+    // The shapes (three atan2 each) are computed in parallel, one record per face; the sums are
+    // then taken serially in face order, so they are the same to the last bit for any thread count.
+    struct FaceFigures {
+      double q, minAngle, maxAngle, aspectRatio, area, volume;
+      bool degenerate, counted; ///< counted: finite corners, the area and volume terms count
+    };
+    std::vector<FaceFigures> figures(nf);
+    ParallelFor(nf, params.threads, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t f = begin; f < end; ++f) {
+        FaceFigures& x = figures[f];
+        TriangleShape shape;
+        x.counted = false;
+        x.volume = 0;
+        if (t.proper[f]) {
+          const auto& tri = t.faces[f];
+          shape = ShapeOf(points[tri[0]], points[tri[1]], points[tri[2]], degenerateArea);
+          if (finite[tri[0]] && finite[tri[1]] && finite[tri[2]]) {
+            x.counted = true;
+            x.volume =
+                (points[tri[0]] - centroid) * ((points[tri[1]] - centroid) ^ (points[tri[2]] - centroid));
+          }
+        }
+        if (shape.degenerate) {
+          shape.angles = {0.0, 0.0, 180.0};
+          shape.q = 0;
+          shape.aspectRatio = infinity;
+        }
+        x.q = shape.q;
+        x.minAngle = std::min({shape.angles[0], shape.angles[1], shape.angles[2]});
+        x.maxAngle = std::max({shape.angles[0], shape.angles[1], shape.angles[2]});
+        x.aspectRatio = shape.aspectRatio;
+        x.area = shape.area;
+        x.degenerate = shape.degenerate;
       }
-      if (!shape.degenerate) candidates.push_back(tri);
+    });
+    for (std::size_t f = 0; f < nf; ++f) {
+      const FaceFigures& x = figures[f];
+      if (t.proper[f]) {
+        if (x.counted) {
+          r.area += x.area;
+          volumeSum += x.volume;
+        }
+        if (!x.degenerate) candidates.push_back(t.faces[f]);
+      }
+      if (x.degenerate) {
+        ++r.degenerateFaces;
+      } else {
+        arSumNonDegenerate += x.aspectRatio;
+      }
+      qSum += x.q;
+      minAngleSum += x.minAngle;
+      arSum += x.aspectRatio;
+      r.qMin = std::min(r.qMin, x.q);
+      r.angleMin = std::min(r.angleMin, x.minAngle);
+      r.angleMax = std::max(r.angleMax, x.maxAngle);
+      r.aspectRatioMax = std::max(r.aspectRatioMax, x.aspectRatio);
+      if (x.minAngle < params.smallAngle) ++r.smallAngleFaces;
+      if (x.maxAngle >= params.obtuseAngle) ++r.obtuseFaces;
+      if (x.maxAngle > params.largeAngle) ++r.largeAngleFaces;
     }
-    if (shape.degenerate) {
-      ++r.degenerateFaces;
-      shape.angles = {0.0, 0.0, 180.0};
-      shape.q = 0;
-      shape.aspectRatio = infinity;
-    } else {
-      arSumNonDegenerate += shape.aspectRatio;
-    }
-    const double minAngle = std::min({shape.angles[0], shape.angles[1], shape.angles[2]});
-    const double maxAngle = std::max({shape.angles[0], shape.angles[1], shape.angles[2]});
-    qSum += shape.q;
-    minAngleSum += minAngle;
-    arSum += shape.aspectRatio;
-    r.qMin = std::min(r.qMin, shape.q);
-    r.angleMin = std::min(r.angleMin, minAngle);
-    r.angleMax = std::max(r.angleMax, maxAngle);
-    r.aspectRatioMax = std::max(r.aspectRatioMax, shape.aspectRatio);
-    if (minAngle < params.smallAngle) ++r.smallAngleFaces;
-    if (maxAngle >= params.obtuseAngle) ++r.obtuseFaces;
-    if (maxAngle > params.largeAngle) ++r.largeAngleFaces;
   }
   r.volume = volumeSum / 6.0;
   if (nf > 0) {
@@ -903,7 +1014,8 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
 
   // --- Self-intersections ----------------------------------------------------------------------
   if (params.computeSelfIntersections) {
-    const IntersectionCounts counts = CountSelfIntersections(candidates, points, r.medianEdgeLength);
+    const IntersectionCounts counts =
+        CountSelfIntersections(candidates, points, r.medianEdgeLength, params.threads);
     r.selfIntersectingPairs = counts.disjointPairs;
     r.adjacentOverlapPairs = counts.adjacentPairs;
     r.selfIntersectingFaces = counts.faces;
