@@ -1211,6 +1211,7 @@ typename AdaptiveRemeshing<MeshType>::Result AdaptiveRemeshing<MeshType>::Do(Mes
     return finish(false, "adaptive remeshing refused: collapseFactor must be below splitFactor");
   typename MeshQuality<MeshType>::Params qp;
   qp.computeSelfIntersections = false;
+  qp.threads = params.threads;
   const QualityReport input = MeshQuality<MeshType>::Compute(m, qp);
   const double L0 = params.targetEdgeLength > 0 ? params.targetEdgeLength : input.meanEdgeLength;
   if (!(L0 > 0) || !std::isfinite(L0)) return finish(false, "adaptive remeshing refused: no valid target edge length");

@@ -194,6 +194,7 @@ public:
       return result;
     }
     typename MeshQuality<MeshType>::Params qualityParams;
+    qualityParams.threads = params.threads;
     result.input = MeshQuality<MeshType>::Compute(m, qualityParams);
 
     MeshType backup;
@@ -232,7 +233,8 @@ public:
       else if (params.measureEachStage)
         result.targetEdgeLength = result.stages.back().after.meanEdgeLength;
       else
-        result.targetEdgeLength = MeshQuality<MeshType>::Compute(m, NoIntersections()).meanEdgeLength;
+        result.targetEdgeLength =
+            MeshQuality<MeshType>::Compute(m, NoIntersections(params.threads)).meanEdgeLength;
     };
 
     const std::size_t stageCount = params.stages.size();
@@ -390,9 +392,10 @@ private:
     return {};
   }
 
-  static typename MeshQuality<MeshType>::Params NoIntersections() {
+  static typename MeshQuality<MeshType>::Params NoIntersections(int threads) {
     typename MeshQuality<MeshType>::Params p;
     p.computeSelfIntersections = false;
+    p.threads = threads;
     return p;
   }
 };

@@ -564,6 +564,7 @@ ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const
   if (!(L > 0)) {
     typename MeshQuality<MeshType>::Params qp;
     qp.computeSelfIntersections = false;
+    qp.threads = params.threads;
     L = MeshQuality<MeshType>::Compute(m, qp).meanEdgeLength;
   }
   if (!(L > 0) || !std::isfinite(L)) {
