@@ -490,41 +490,6 @@ struct IntersectionCounts {
   std::size_t faces = 0;         ///< faces in at least one such pair
 };
 
-/// Sorts v, whose elements must be distinct, on `threads` threads: chunks are sorted in parallel
-/// and then merged pairwise. Distinct elements have one sorted order, so the result is the one
-/// std::sort gives, whatever the thread count.
-template <class T>
-void SortDistinct(std::vector<T>& v, int threads) {
-  constexpr std::size_t kMinChunk = 1 << 16; // below that, a thread costs more than it saves
-  const std::size_t chunks =
-      std::max<std::size_t>(1, std::min(std::size_t(ResolveThreadCount(threads)), v.size() / kMinChunk));
-  if (chunks == 1) {
-    std::sort(v.begin(), v.end());
-    return;
-  }
-  std::vector<std::size_t> bound(chunks + 1);
-  for (std::size_t c = 0; c <= chunks; ++c) bound[c] = v.size() * c / chunks;
-  auto at = [&](std::vector<T>& w, std::size_t chunk) {
-    return w.begin() + std::ptrdiff_t(bound[std::min(chunk, chunks)]);
-  };
-  auto sortChunks = [&](std::size_t begin, std::size_t end, int) {
-    for (std::size_t c = begin; c < end; ++c) std::sort(at(v, c), at(v, c + 1));
-  };
-  ParallelFor(chunks, threads, sortChunks, 1);
-  std::vector<T> merged(v.size());
-  for (std::size_t width = 1; width < chunks; width *= 2) {
-    // Runs of `width` chunks, merged two by two.
-    auto mergeRuns = [&](std::size_t begin, std::size_t end, int) {
-      for (std::size_t k = begin; k < end; ++k) {
-        const std::size_t c = 2 * width * k;
-        std::merge(at(v, c), at(v, c + width), at(v, c + width), at(v, c + 2 * width), at(merged, c));
-      }
-    };
-    ParallelFor((chunks + 2 * width - 1) / (2 * width), threads, mergeRuns, 1);
-    v.swap(merged);
-  }
-}
-
 /// Counts intersecting pairs among the given (non-degenerate, finite) triangles.
 ///
 /// Broad phase: a uniform grid of cells two median edge lengths wide (the median, unlike the
@@ -628,32 +593,69 @@ inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<In
         if (j != o && (cellCount[j] != 0 || j > o)) testPair(o, Index(j), hits[thread]);
     });
 
-  // Hashed faces: (wrapped cell key, face), sorted so each cell's faces are contiguous.
+  // Hashed faces: (wrapped cell key, face) entries, sorted so that each cell's faces are
+  // contiguous and ascending. Rather than one sort of millions of entries, a counting sort deals
+  // them into buckets, slabs of z (the key's most significant part), and each bucket, small enough
+  // to stay in cache, is sorted on its own, in parallel: the same order as one global sort, so the
+  // cells are visited in the same spatially coherent order (a hashed order costs cache misses).
   auto wrappedKey = [&](std::int64_t x, std::int64_t y, std::int64_t z) {
     return (std::uint64_t(z & kAxisMask) << (2 * kAxisBits)) | (std::uint64_t(y & kAxisMask) << kAxisBits) |
            std::uint64_t(x & kAxisMask);
   };
-  std::vector<std::pair<std::uint64_t, Index>> cellFaces(entries);
-  {
-    std::vector<std::uint64_t> first(n); // where the entries of face i start
-    std::uint64_t sum = 0;
-    for (std::size_t i = 0; i < n; ++i) {
-      first[i] = sum;
-      sum += cellCount[i];
+  auto forEachCell = [&](std::size_t i, auto&& visit) {
+    for (std::int64_t z = low[i][2]; z <= high[i][2]; ++z)
+      for (std::int64_t y = low[i][1]; y <= high[i][1]; ++y)
+        for (std::int64_t x = low[i][0]; x <= high[i][0]; ++x) visit(wrappedKey(x, y, z));
+  };
+  constexpr std::size_t kFaceBlock = 4096; // faces per block of the counting sort
+  constexpr std::uint64_t kMaxBuckets = 1024;
+  // Wrapped z of the cells: 0 .. zMax (low and high are >= 0 by construction).
+  const std::uint64_t zMax =
+      std::uint64_t(std::min<double>(double(kAxisMask), std::floor(all.DimZ() / cell)));
+  int zShift = 0;
+  while ((zMax >> zShift) >= kMaxBuckets) ++zShift;
+  const std::size_t buckets = std::size_t(zMax >> zShift) + 1;
+  auto bucketOf = [&](std::uint64_t key) {
+    return std::min(buckets - 1, std::size_t((key >> (2 * kAxisBits)) >> zShift));
+  };
+  const std::size_t blocks = (n + kFaceBlock - 1) / kFaceBlock;
+  // cursor[b * buckets + k]: entries of face block b in bucket k, then where the first of them goes.
+  std::vector<std::uint64_t> cursor(blocks * buckets, 0);
+  auto countBlocks = [&](std::size_t bBegin, std::size_t bEnd, int) {
+    for (std::size_t b = bBegin; b < bEnd; ++b)
+      for (std::size_t i = b * kFaceBlock; i < std::min(n, (b + 1) * kFaceBlock); ++i)
+        if (cellCount[i] != 0)
+          forEachCell(i, [&](std::uint64_t key) { ++cursor[b * buckets + bucketOf(key)]; });
+  };
+  ParallelFor(blocks, threads, countBlocks, 1);
+  std::vector<std::uint64_t> bucketStart(buckets + 1);
+  std::uint64_t placed = 0;
+  for (std::size_t k = 0; k < buckets; ++k) {
+    bucketStart[k] = placed;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::uint64_t count = cursor[b * buckets + k];
+      cursor[b * buckets + k] = placed;
+      placed += count;
     }
-    ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
-      for (std::size_t i = begin; i < end; ++i) {
-        if (cellCount[i] == 0) continue;
-        std::uint64_t k = first[i];
-        for (std::int64_t z = low[i][2]; z <= high[i][2]; ++z)
-          for (std::int64_t y = low[i][1]; y <= high[i][1]; ++y)
-            for (std::int64_t x = low[i][0]; x <= high[i][0]; ++x)
-              cellFaces[k++] = {wrappedKey(x, y, z), Index(i)};
-      }
-    });
   }
+  bucketStart[buckets] = placed;
+  std::vector<std::pair<std::uint64_t, Index>> cellFaces(entries);
+  auto fillBlocks = [&](std::size_t bBegin, std::size_t bEnd, int) {
+    for (std::size_t b = bBegin; b < bEnd; ++b)
+      for (std::size_t i = b * kFaceBlock; i < std::min(n, (b + 1) * kFaceBlock); ++i)
+        if (cellCount[i] != 0)
+          forEachCell(i, [&](std::uint64_t key) {
+            cellFaces[cursor[b * buckets + bucketOf(key)]++] = {key, Index(i)};
+          });
+  };
+  ParallelFor(blocks, threads, fillBlocks, 1);
   // A face is in a cell once (it spans fewer than 2^21 cells per axis): the entries are distinct.
-  SortDistinct(cellFaces, threads);
+  auto sortBuckets = [&](std::size_t kBegin, std::size_t kEnd, int) {
+    for (std::size_t k = kBegin; k < kEnd; ++k)
+      std::sort(cellFaces.begin() + std::ptrdiff_t(bucketStart[k]),
+                cellFaces.begin() + std::ptrdiff_t(bucketStart[k + 1]));
+  };
+  ParallelFor(buckets, threads, sortBuckets, 1);
 
   std::vector<std::size_t> cellStart; // runs of equal keys, and the end
   for (std::size_t k = 0; k < cellFaces.size(); ++k)
