@@ -363,8 +363,10 @@ struct Topology {
 /// Linear time: every table is filled by counting sort (bucket by vertex), which keeps the
 /// faces and edges of one bucket in ascending order for free; only the few sides at one vertex
 /// are sorted among themselves. The pipeline reports after every stage, and three general sorts
-/// of 1.5 M entries each cost more there than all the other figures together.
-inline void BuildTopology(Topology& t) {
+/// of 1.5 M entries each cost more there than all the other figures together. Those per-vertex
+/// sorts, and the edges they give, run on `threads` threads: each vertex writes only its own part
+/// of the tables, at offsets counted beforehand, so the tables do not depend on the thread count.
+inline void BuildTopology(Topology& t, int threads) {
   const std::size_t nv = t.vertexCount;
   const std::size_t nf = t.faces.size();
 
@@ -387,26 +389,36 @@ inline void BuildTopology(Topology& t) {
       }
     }
   }
-  t.edgeKeys.clear();
-  t.edgeKeys.reserve(sides.size() / 2 + 1);
-  t.edgeFaceStart.assign(1, 0);
-  t.edgeFaceStart.reserve(sides.size() / 2 + 2);
+  // Sorted, the sides of one bucket list the edges at their smaller vertex in ascending order,
+  // each edge's faces ascending. edgesAt[v + 1] counts the edges of bucket v, then becomes the
+  // number of the first edge of bucket v + 1.
   t.edgeFaces.resize(sides.size());
-  Index written = 0;
-  for (std::size_t v = 0; v < nv; ++v) {
-    const auto begin = sides.begin() + sideStart[v], end = sides.begin() + sideStart[v + 1];
-    std::sort(begin, end); // (larger vertex, face)
-    for (auto it = begin; it != end; ++it) {
-      if (it == begin || it->first != (it - 1)->first) {
-        if (it != begin) t.edgeFaceStart.push_back(written);
-        t.edgeKeys.push_back((std::uint64_t(v) << 32) | it->first);
+  std::vector<Index> edgesAt(nv + 1, 0);
+  ParallelFor(nv, threads, [&](std::size_t vBegin, std::size_t vEnd, int) {
+    for (std::size_t v = vBegin; v < vEnd; ++v) {
+      std::sort(sides.begin() + sideStart[v], sides.begin() + sideStart[v + 1]); // (larger vertex, face)
+      for (Index k = sideStart[v]; k < sideStart[v + 1]; ++k) {
+        if (k == sideStart[v] || sides[k].first != sides[k - 1].first) ++edgesAt[v + 1];
+        t.edgeFaces[k] = sides[k].second;
       }
-      t.edgeFaces[written++] = it->second;
     }
-    if (begin != end) t.edgeFaceStart.push_back(written);
-  }
+  });
+  for (std::size_t v = 0; v < nv; ++v) edgesAt[v + 1] += edgesAt[v];
+  const std::size_t ne = edgesAt[nv];
+  t.edgeKeys.resize(ne);
+  t.edgeFaceStart.resize(ne + 1);
+  t.edgeFaceStart[ne] = Index(sides.size());
+  ParallelFor(nv, threads, [&](std::size_t vBegin, std::size_t vEnd, int) {
+    for (std::size_t v = vBegin; v < vEnd; ++v) {
+      Index e = edgesAt[v];
+      for (Index k = sideStart[v]; k < sideStart[v + 1]; ++k)
+        if (k == sideStart[v] || sides[k].first != sides[k - 1].first) {
+          t.edgeKeys[e] = (std::uint64_t(v) << 32) | sides[k].first;
+          t.edgeFaceStart[e++] = k;
+        }
+    }
+  });
   sides = std::vector<std::pair<Index, Index>>();
-  const std::size_t ne = t.edgeKeys.size();
 
   // Edges at each vertex, ascending (the edges are visited in ascending order).
   t.vertEdgeStart.assign(nv + 1, 0);
@@ -450,9 +462,9 @@ inline void BuildTopology(Topology& t) {
   }
 }
 
-/// Reads the live faces of m into t and builds the topology.
+/// Reads the live faces of m into t and builds the topology on `threads` threads.
 template <class MeshType>
-Topology ReadTopology(const MeshType& m) {
+Topology ReadTopology(const MeshType& m, int threads) {
   Topology t;
   t.vertexCount = m.vert.size();
   t.faces.reserve(m.face.size());
@@ -471,7 +483,7 @@ Topology ReadTopology(const MeshType& m) {
     t.faces.push_back(idx);
     t.proper.push_back(valid && idx[0] != idx[1] && idx[1] != idx[2] && idx[2] != idx[0]);
   }
-  BuildTopology(t);
+  BuildTopology(t, threads);
   return t;
 }
 
@@ -709,7 +721,7 @@ TriangleAngles MeshQuality<MeshType>::FaceAngles(const typename MeshType::FaceTy
 
 template <class MeshType>
 std::vector<int> MeshQuality<MeshType>::VertexValences(const MeshType& m) {
-  const quality_detail::Topology t = quality_detail::ReadTopology(m);
+  const quality_detail::Topology t = quality_detail::ReadTopology(m, 0);
   std::vector<int> valence(m.vert.size(), 0);
   for (std::size_t v = 0; v < valence.size(); ++v)
     valence[v] = int(t.vertEdgeStart[v + 1] - t.vertEdgeStart[v]);
@@ -718,14 +730,14 @@ std::vector<int> MeshQuality<MeshType>::VertexValences(const MeshType& m) {
 
 template <class MeshType>
 std::vector<bool> MeshQuality<MeshType>::VertexOnBorder(const MeshType& m) {
-  return quality_detail::ReadTopology(m).onBorder;
+  return quality_detail::ReadTopology(m, 0).onBorder;
 }
 
 template <class MeshType>
 QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& params) {
   using namespace quality_detail;
   QualityReport r;
-  const Topology t = ReadTopology(m);
+  const Topology t = ReadTopology(m, params.threads);
   const std::size_t nv = m.vert.size();
   const std::size_t nf = t.faces.size();
   const std::size_t ne = t.edgeKeys.size();
@@ -795,66 +807,89 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
   // joined through two-face edges; an open fan has exactly two boundary edges, which are
   // consecutive edges of one boundary loop. Boundary edges at vertices where this does not hold
   // (non-manifold edges) are "broken" and their polylines are not counted as loops.
-  std::vector<bool> nonManifoldVertex(nv, false);
+  // The vertices are judged in parallel. What concerns shared records (a component made
+  // non-manifold, a boundary edge broken, two boundary edges linked) is collected per thread and
+  // applied afterwards; applying it does not depend on the order (flags, and a union-find whose
+  // roots are the smallest members), so neither does the result on the thread count.
+  std::vector<char> nonManifoldVertex(nv, 0); // char, not bool: written concurrently
   UnionFind boundaryLinks(ne);
   std::vector<bool> brokenBoundary(ne, false);
   {
-    std::vector<Index> localParent;
-    std::vector<std::pair<Index, Index>> fanBoundary; // (fan root, boundary edge)
-    std::vector<Index> fanComponents;
-    for (std::size_t v = 0; v < nv; ++v) {
-      const Index fBegin = t.vertFaceStart[v], fEnd = t.vertFaceStart[v + 1];
-      if (fBegin == fEnd) continue;
-      const Index eBegin = t.vertEdgeStart[v], eEnd = t.vertEdgeStart[v + 1];
-      if (t.onNonManifoldEdge[v]) {
-        for (Index k = eBegin; k < eEnd; ++k)
-          if (t.EdgeFaceCount(t.vertEdges[k]) == 1) brokenBoundary[t.vertEdges[k]] = true;
-        continue;
-      }
-      const auto facesBegin = t.vertFaces.begin() + fBegin, facesEnd = t.vertFaces.begin() + fEnd;
-      auto local = [&](Index f) { return Index(std::lower_bound(facesBegin, facesEnd, f) - facesBegin); };
-      localParent.resize(fEnd - fBegin);
-      std::iota(localParent.begin(), localParent.end(), Index(0));
-      auto find = [&](Index x) {
-        while (localParent[x] != x) x = localParent[x] = localParent[localParent[x]];
-        return x;
-      };
-      fanBoundary.clear();
-      for (Index k = eBegin; k < eEnd; ++k) {
-        const Index e = t.vertEdges[k];
-        const Index* ef = &t.edgeFaces[t.edgeFaceStart[e]];
-        if (t.EdgeFaceCount(e) == 2) {
-          const Index a = find(local(ef[0])), b = find(local(ef[1]));
-          if (a != b) localParent[std::max(a, b)] = std::min(a, b);
+    struct FanScratch {
+      std::vector<Index> localParent;
+      std::vector<std::pair<Index, Index>> fanBoundary; // (fan root, boundary edge)
+      std::vector<Index> fanComponents;
+      std::vector<Index> nonManifoldComponents, broken; // to apply afterwards
+      std::vector<std::pair<Index, Index>> links;       // boundary edges to unite afterwards
+    };
+    std::vector<FanScratch> scratch(std::size_t(ResolveThreadCount(params.threads)));
+    ParallelFor(nv, params.threads, [&](std::size_t vBegin, std::size_t vEnd, int thread) {
+      FanScratch& own = scratch[std::size_t(thread)];
+      std::vector<Index>& localParent = own.localParent;
+      std::vector<std::pair<Index, Index>>& fanBoundary = own.fanBoundary;
+      std::vector<Index>& fanComponents = own.fanComponents;
+      for (std::size_t v = vBegin; v < vEnd; ++v) {
+        const Index fBegin = t.vertFaceStart[v], fEnd = t.vertFaceStart[v + 1];
+        if (fBegin == fEnd) continue;
+        const Index eBegin = t.vertEdgeStart[v], eEnd = t.vertEdgeStart[v + 1];
+        if (t.onNonManifoldEdge[v]) {
+          for (Index k = eBegin; k < eEnd; ++k)
+            if (t.EdgeFaceCount(t.vertEdges[k]) == 1) own.broken.push_back(t.vertEdges[k]);
+          continue;
+        }
+        const auto facesBegin = t.vertFaces.begin() + fBegin, facesEnd = t.vertFaces.begin() + fEnd;
+        auto local = [&](Index f) { return Index(std::lower_bound(facesBegin, facesEnd, f) - facesBegin); };
+        localParent.resize(fEnd - fBegin);
+        std::iota(localParent.begin(), localParent.end(), Index(0));
+        auto find = [&](Index x) {
+          while (localParent[x] != x) x = localParent[x] = localParent[localParent[x]];
+          return x;
+        };
+        fanBoundary.clear();
+        for (Index k = eBegin; k < eEnd; ++k) {
+          const Index e = t.vertEdges[k];
+          const Index* ef = &t.edgeFaces[t.edgeFaceStart[e]];
+          if (t.EdgeFaceCount(e) == 2) {
+            const Index a = find(local(ef[0])), b = find(local(ef[1]));
+            if (a != b) localParent[std::max(a, b)] = std::min(a, b);
+          }
+        }
+        std::size_t fans = 0;
+        for (Index i = 0; i < localParent.size(); ++i)
+          if (find(i) == i) ++fans;
+        if (fans > 1) {
+          nonManifoldVertex[v] = 1;
+          // Two fans of the same component make that component non-manifold; fans of different
+          // components only mean the components touch there (each is manifold on its own).
+          fanComponents.clear();
+          for (Index i = 0; i < localParent.size(); ++i)
+            if (find(i) == i) fanComponents.push_back(componentOf[t.vertFaces[fBegin + i]]);
+          std::sort(fanComponents.begin(), fanComponents.end());
+          for (std::size_t i = 1; i < fanComponents.size(); ++i)
+            if (fanComponents[i] == fanComponents[i - 1])
+              own.nonManifoldComponents.push_back(fanComponents[i]);
+        }
+        for (Index k = eBegin; k < eEnd; ++k) {
+          const Index e = t.vertEdges[k];
+          if (t.EdgeFaceCount(e) == 1)
+            fanBoundary.emplace_back(find(local(t.edgeFaces[t.edgeFaceStart[e]])), e);
+        }
+        std::sort(fanBoundary.begin(), fanBoundary.end());
+        for (std::size_t i = 0; i < fanBoundary.size();) {
+          std::size_t j = i;
+          while (j < fanBoundary.size() && fanBoundary[j].first == fanBoundary[i].first) ++j;
+          if (j - i == 2)
+            own.links.emplace_back(fanBoundary[i].second, fanBoundary[i + 1].second);
+          else
+            for (std::size_t k = i; k < j; ++k) own.broken.push_back(fanBoundary[k].second);
+          i = j;
         }
       }
-      std::size_t fans = 0;
-      for (Index i = 0; i < localParent.size(); ++i)
-        if (find(i) == i) ++fans;
-      if (fans > 1) {
-        nonManifoldVertex[v] = true;
-        // Two fans of the same component make that component non-manifold; fans of different
-        // components only mean the components touch there (each is manifold on its own).
-        fanComponents.clear();
-        for (Index i = 0; i < localParent.size(); ++i)
-          if (find(i) == i) fanComponents.push_back(componentOf[t.vertFaces[fBegin + i]]);
-        std::sort(fanComponents.begin(), fanComponents.end());
-        for (std::size_t i = 1; i < fanComponents.size(); ++i)
-          if (fanComponents[i] == fanComponents[i - 1]) comps[fanComponents[i]].manifold = false;
-      }
-      for (Index k = eBegin; k < eEnd; ++k) {
-        const Index e = t.vertEdges[k];
-        if (t.EdgeFaceCount(e) == 1) fanBoundary.emplace_back(find(local(t.edgeFaces[t.edgeFaceStart[e]])), e);
-      }
-      std::sort(fanBoundary.begin(), fanBoundary.end());
-      for (std::size_t i = 0; i < fanBoundary.size();) {
-        std::size_t j = i;
-        while (j < fanBoundary.size() && fanBoundary[j].first == fanBoundary[i].first) ++j;
-        if (j - i == 2) boundaryLinks.Unite(fanBoundary[i].second, fanBoundary[i + 1].second);
-        else
-          for (std::size_t k = i; k < j; ++k) brokenBoundary[fanBoundary[k].second] = true;
-        i = j;
-      }
+    });
+    for (const FanScratch& own : scratch) {
+      for (Index c : own.nonManifoldComponents) comps[c].manifold = false;
+      for (Index e : own.broken) brokenBoundary[e] = true;
+      for (const auto& [a, b] : own.links) boundaryLinks.Unite(a, b);
     }
   }
   for (std::size_t v = 0; v < nv; ++v)
