@@ -975,63 +975,69 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
   {
     // The shapes (three atan2 each) are computed in parallel, one record per face; the sums are
     // then taken serially in face order, so they are the same to the last bit for any thread count.
+    // A window of faces at a time: records for the whole mesh would cost more in page faults than
+    // the parallel loop saves.
     struct FaceFigures {
       double q, minAngle, maxAngle, aspectRatio, area, volume;
       bool degenerate, counted; ///< counted: finite corners, the area and volume terms count
     };
-    std::vector<FaceFigures> figures(nf);
-    ParallelFor(nf, params.threads, [&](std::size_t begin, std::size_t end, int) {
-      for (std::size_t f = begin; f < end; ++f) {
-        FaceFigures& x = figures[f];
-        TriangleShape shape;
-        x.counted = false;
-        x.volume = 0;
-        if (t.proper[f]) {
-          const auto& tri = t.faces[f];
-          shape = ShapeOf(points[tri[0]], points[tri[1]], points[tri[2]], degenerateArea);
-          if (finite[tri[0]] && finite[tri[1]] && finite[tri[2]]) {
-            x.counted = true;
-            x.volume =
-                (points[tri[0]] - centroid) * ((points[tri[1]] - centroid) ^ (points[tri[2]] - centroid));
+    constexpr std::size_t kWindow = std::size_t(1) << 15;
+    std::vector<FaceFigures> figures(std::min(nf, kWindow));
+    for (std::size_t first = 0; first < nf; first += kWindow) {
+      const std::size_t count = std::min(kWindow, nf - first);
+      ParallelFor(count, params.threads, [&](std::size_t begin, std::size_t end, int) {
+        for (std::size_t f = first + begin; f < first + end; ++f) {
+          FaceFigures& x = figures[f - first];
+          TriangleShape shape;
+          x.counted = false;
+          x.volume = 0;
+          if (t.proper[f]) {
+            const auto& tri = t.faces[f];
+            shape = ShapeOf(points[tri[0]], points[tri[1]], points[tri[2]], degenerateArea);
+            if (finite[tri[0]] && finite[tri[1]] && finite[tri[2]]) {
+              x.counted = true;
+              x.volume =
+                  (points[tri[0]] - centroid) * ((points[tri[1]] - centroid) ^ (points[tri[2]] - centroid));
+            }
           }
+          if (shape.degenerate) {
+            shape.angles = {0.0, 0.0, 180.0};
+            shape.q = 0;
+            shape.aspectRatio = infinity;
+          }
+          x.q = shape.q;
+          x.minAngle = std::min({shape.angles[0], shape.angles[1], shape.angles[2]});
+          x.maxAngle = std::max({shape.angles[0], shape.angles[1], shape.angles[2]});
+          x.aspectRatio = shape.aspectRatio;
+          x.area = shape.area;
+          x.degenerate = shape.degenerate;
         }
-        if (shape.degenerate) {
-          shape.angles = {0.0, 0.0, 180.0};
-          shape.q = 0;
-          shape.aspectRatio = infinity;
+      });
+      for (std::size_t f = first; f < first + count; ++f) {
+        const FaceFigures& x = figures[f - first];
+        if (t.proper[f]) {
+          if (x.counted) {
+            r.area += x.area;
+            volumeSum += x.volume;
+          }
+          if (!x.degenerate) candidates.push_back(t.faces[f]);
         }
-        x.q = shape.q;
-        x.minAngle = std::min({shape.angles[0], shape.angles[1], shape.angles[2]});
-        x.maxAngle = std::max({shape.angles[0], shape.angles[1], shape.angles[2]});
-        x.aspectRatio = shape.aspectRatio;
-        x.area = shape.area;
-        x.degenerate = shape.degenerate;
-      }
-    });
-    for (std::size_t f = 0; f < nf; ++f) {
-      const FaceFigures& x = figures[f];
-      if (t.proper[f]) {
-        if (x.counted) {
-          r.area += x.area;
-          volumeSum += x.volume;
+        if (x.degenerate) {
+          ++r.degenerateFaces;
+        } else {
+          arSumNonDegenerate += x.aspectRatio;
         }
-        if (!x.degenerate) candidates.push_back(t.faces[f]);
+        qSum += x.q;
+        minAngleSum += x.minAngle;
+        arSum += x.aspectRatio;
+        r.qMin = std::min(r.qMin, x.q);
+        r.angleMin = std::min(r.angleMin, x.minAngle);
+        r.angleMax = std::max(r.angleMax, x.maxAngle);
+        r.aspectRatioMax = std::max(r.aspectRatioMax, x.aspectRatio);
+        if (x.minAngle < params.smallAngle) ++r.smallAngleFaces;
+        if (x.maxAngle >= params.obtuseAngle) ++r.obtuseFaces;
+        if (x.maxAngle > params.largeAngle) ++r.largeAngleFaces;
       }
-      if (x.degenerate) {
-        ++r.degenerateFaces;
-      } else {
-        arSumNonDegenerate += x.aspectRatio;
-      }
-      qSum += x.q;
-      minAngleSum += x.minAngle;
-      arSum += x.aspectRatio;
-      r.qMin = std::min(r.qMin, x.q);
-      r.angleMin = std::min(r.angleMin, x.minAngle);
-      r.angleMax = std::max(r.angleMax, x.maxAngle);
-      r.aspectRatioMax = std::max(r.aspectRatioMax, x.aspectRatio);
-      if (x.minAngle < params.smallAngle) ++r.smallAngleFaces;
-      if (x.maxAngle >= params.obtuseAngle) ++r.obtuseFaces;
-      if (x.maxAngle > params.largeAngle) ++r.largeAngleFaces;
     }
   }
   r.volume = volumeSum / 6.0;
