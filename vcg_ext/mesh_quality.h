@@ -4,7 +4,9 @@
 // coordinates) without modifying it and without requiring adjacency: topology is derived from
 // a sorted edge table, so non-manifold and open inputs are measured too. All geometry is
 // evaluated in double precision, so MeshLab's float CMeshO and the CLI's double mesh give the
-// same figures for the same file.
+// same figures for the same file. The work runs on params.threads threads, yet every figure is
+// the same to the last bit for any thread count: per-element results are computed in parallel,
+// and sums of doubles are taken serially in element order.
 //
 // Conventions (the figures depend on them, so they are stated once here):
 //  - Deleted vertices and faces are skipped. A face with a repeated vertex index (or a null /
@@ -973,10 +975,10 @@ QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& pa
   std::vector<std::array<Index, 3>> candidates; // non-degenerate faces, for self-intersections
   candidates.reserve(nf);
   {
-    // The shapes (three atan2 each) are computed in parallel, one record per face; the sums are
-    // then taken serially in face order, so they are the same to the last bit for any thread count.
-    // A window of faces at a time: records for the whole mesh would cost more in page faults than
-    // the parallel loop saves.
+    // The shapes (three atan2 each) are computed in parallel, one record per face of a window of
+    // faces; the sums are then taken serially in face order, so they are the same to the last bit
+    // for any thread count. A reused window, because records for the whole mesh would cost more
+    // in page faults than the parallel loop saves.
     struct FaceFigures {
       double q, minAngle, maxAngle, aspectRatio, area, volume;
       bool degenerate, counted; ///< counted: finite corners, the area and volume terms count
