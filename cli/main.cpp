@@ -38,11 +38,12 @@ void LoadValidMesh(MeshD& mesh, const std::string& path) {
   if (!check.ok) throw InputError("'" + path + "': " + check.message);
 }
 
-int RunReport(const std::string& input, bool json, bool skipSelfIntersections) {
+int RunReport(const std::string& input, bool json, bool skipSelfIntersections, int threads) {
   MeshD mesh;
   LoadValidMesh(mesh, input);
   molremesh::MeshQuality<MeshD>::Params params;
   params.computeSelfIntersections = !skipSelfIntersections;
+  params.threads = threads;
   const molremesh::QualityReport report = molremesh::MeshQuality<MeshD>::Compute(mesh, params);
   if (json) {
     nlohmann::json out = molremesh::ToJson(report);
@@ -171,11 +172,16 @@ int main(int argc, char** argv) {
 
   std::string input, output;
   bool json = false, skipSelfIntersections = false;
+  int reportThreads = 0;
   auto* report = app.add_subcommand("report", "Print the quality figures of a mesh (no change to it)");
   report->add_option("input", input, "Mesh file (.ply, .off, .obj, .stl)")->required();
   report->add_flag("--json", json, "Print JSON instead of a table");
   report->add_flag("--no-self-intersections", skipSelfIntersections,
                    "Skip the self-intersection count (the slowest figure)");
+  report
+      ->add_option("--threads", reportThreads, "Worker threads, 0 = all cores (figures do not depend on it)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
 
   double smallAngle = 30.0, obtuseAngle = 90.0;
   auto* color = app.add_subcommand("color", "Write a copy with irregular vertices and obtuse/small-angle "
@@ -264,7 +270,7 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*report) return RunReport(input, json, skipSelfIntersections);
+    if (*report) return RunReport(input, json, skipSelfIntersections, reportThreads);
     if (*color) return RunColor(input, output, smallAngle, obtuseAngle);
     if (*remesh) return RunRemesh(input, output, remeshOptions);
   } catch (const InputError& e) {

@@ -84,6 +84,19 @@ TEST(Cli, ReportJsonOnRealMeshMatchesItsKnownDefects) {
   EXPECT_EQ(j["non_manifold_vertices"], 5);
 }
 
+TEST(Cli, ReportIsTheSameForAnyThreadCount) {
+  // The raw 1MAH PyMOL surface has something for every figure (non-manifold edges, intersecting
+  // pairs, several components); the report must not change by a digit with the thread count.
+  const std::string in = Quote(SharedMesh("ache_1MAH_pymol_ses.ply"));
+  const CommandResult one = Cli("report --json --threads 1 " + in);
+  ASSERT_EQ(one.exitCode, 0) << one.err;
+  for (const char* threads : {"2", "3"}) {
+    const CommandResult many = Cli(std::string("report --json --threads ") + threads + " " + in);
+    ASSERT_EQ(many.exitCode, 0) << many.err;
+    EXPECT_EQ(many.out, one.out) << threads << " threads";
+  }
+}
+
 TEST(Cli, ColorWritesPlyAndCountsMatchReport) {
   const auto dir = TempDir("cli_color");
   const std::string out = (dir / "colored.ply").string();
