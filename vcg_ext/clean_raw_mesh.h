@@ -229,7 +229,8 @@ public:
     bool orientCavitiesInward = true;    ///< cavity components (nested in another closed one) get negative volume
     bool measureSelfIntersections = true;///< count self-intersecting faces before and after (grid accelerated)
     double maxFillDihedral = 150.0;      ///< degrees; a fill triangle never folds more than this against a neighbour
-    int threads = 0;                     ///< worker threads of the tangle search; 0 = all cores (same result)
+    int threads = 0;                     ///< worker threads of the tangle search and the before/after
+                                         ///< measurements; 0 = all cores (same result)
   };
 
   /// Cleans m in place; see the file comment for the steps, the preconditions and the guarantees.
@@ -420,6 +421,7 @@ private:
     typename Quality::Params qp;
     qp.computeSelfIntersections = params.measureSelfIntersections;
     qp.degenerateAreaEpsilon = params.degenerateAreaEpsilon;
+    qp.threads = params.threads;
     Progress(cb, 0, "Measuring the input");
     const QualityReport before = Quality::Compute(m, qp);
     r.verticesBefore = before.vertices;

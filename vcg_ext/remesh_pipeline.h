@@ -134,7 +134,7 @@ public:
     /// Count self-intersecting pairs in every stage's report; otherwise only in the input's and the
     /// last stage's (every edit already refuses new intersections; the count is the slowest figure).
     bool intersectionsEachStage = true;
-    typename CleanRawMesh<MeshType>::Params clean;
+    typename CleanRawMesh<MeshType>::Params clean; ///< threads: the pipeline's
     typename CvtInitialization<MeshType>::Params cvt;
     typename RandomSegmentation<MeshType>::Params segment;
     typename PatchwiseRemeshing<MeshType>::Params
