@@ -24,6 +24,8 @@
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/face_face_topology.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -342,41 +344,21 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
 
 template <class MeshType>
 void ReferenceSurface<MeshType>::BuildAdjacency(const std::vector<std::array<std::uint32_t, 3>>& tris) {
-  // Faces sharing an edge are mutual neighbours (all of them on a non-manifold edge). The face
-  // sides are bucketed by their smaller vertex (a counting sort, linear in the faces) and matched
-  // within each bucket by their other vertex.
+  // Faces sharing an edge are mutual neighbours (all of them on a non-manifold edge).
   std::uint32_t vertexCount = 0;
   for (const auto& t : tris) vertexCount = std::max({vertexCount, t[0] + 1, t[1] + 1, t[2] + 1});
-  std::vector<std::uint32_t> bucketStart(std::size_t(vertexCount) + 1, 0);
-  for (const auto& t : tris)
-    for (int k = 0; k < 3; ++k) ++bucketStart[std::min(t[k], t[(k + 1) % 3]) + 1];
-  for (std::uint32_t v = 0; v < vertexCount; ++v) bucketStart[v + 1] += bucketStart[v];
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> sides(tris.size() * 3); // (larger vertex, face)
-  {
-    std::vector<std::uint32_t> fill(bucketStart.begin(), bucketStart.end() - 1);
-    for (std::size_t f = 0; f < tris.size(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t a = tris[f][k], b = tris[f][(k + 1) % 3];
-        sides[fill[std::min(a, b)]++] = {std::max(a, b), std::uint32_t(f)};
-      }
-  }
   std::vector<std::uint8_t> onOddEdge(faceCount_, 0); // on an edge without exactly two faces
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs; // (face, neighbour)
-  pairs.reserve(sides.size());
-  for (std::uint32_t v = 0; v < vertexCount; ++v) {
-    const auto first = sides.begin() + bucketStart[v], last = sides.begin() + bucketStart[v + 1];
-    std::sort(first, last);
-    for (auto i = first; i != last;) {
-      auto j = i;
-      while (j != last && j->first == i->first) ++j;
-      if (j - i != 2)
-        for (auto a = i; a != j; ++a) onOddEdge[a->second] = 1;
-      for (auto a = i; a != j; ++a)
-        for (auto b = i; b != j; ++b)
-          if (a->second != b->second) pairs.emplace_back(a->second, b->second);
-      i = j;
-    }
-  }
+  pairs.reserve(tris.size() * 3);
+  ForEachEdgeSideGroup(
+      vertexCount, tris.size(), [&](std::size_t f, int k) { return tris[f][k]; }, [](std::size_t) { return true; },
+      [&](auto first, auto last) {
+        if (last - first != 2)
+          for (auto a = first; a != last; ++a) onOddEdge[a->face] = 1;
+        for (auto a = first; a != last; ++a)
+          for (auto b = first; b != last; ++b)
+            if (a->face != b->face) pairs.emplace_back(a->face, b->face);
+      });
   // CSR of the neighbours, each face's list sorted and without repeats.
   neighborStart_.assign(faceCount_ + 1, 0);
   for (const auto& pr : pairs) ++neighborStart_[pr.first + 1];
