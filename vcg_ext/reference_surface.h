@@ -351,7 +351,8 @@ void ReferenceSurface<MeshType>::BuildAdjacency(const std::vector<std::array<std
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs; // (face, neighbour)
   pairs.reserve(tris.size() * 3);
   ForEachEdgeSideGroup(
-      vertexCount, tris.size(), [&](std::size_t f, int k) { return tris[f][k]; }, [](std::size_t) { return true; },
+      vertexCount, tris.size(), [&](std::size_t f, int k) { return tris[f][k]; },
+      [](std::size_t) { return true; },
       [&](auto first, auto last) {
         if (last - first != 2)
           for (auto a = first; a != last; ++a) onOddEdge[a->face] = 1;
