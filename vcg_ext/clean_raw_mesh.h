@@ -90,6 +90,7 @@
 #include <utility>
 #include <vector>
 
+#include "face_face_topology.h"
 #include "input_check.h"
 #include "mesh_quality.h"
 #include "parallel_for.h"
@@ -307,7 +308,10 @@ private:
     if (cb) (*cb)(percent, what);
   }
   static void RebuildTopology(MeshType& m) {
-    vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
+    // The linear-time adjacency is vcglib's wherever an edge has at most two faces. On a
+    // non-manifold edge vcglib orders the ring by its own sort, and the repairs here walk such
+    // rings, so a mesh that has any keeps vcglib's construction (and the same cleaning).
+    if (UpdateFaceFaceTopology(m) > 0) vcg::tri::UpdateTopology<MeshType>::FaceFace(m);
     vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
   }
   static bool IsBorderEdge(const FaceType& f, int e) { return f.cFFp(e) == &f; }

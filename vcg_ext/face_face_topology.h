@@ -11,7 +11,9 @@
 // The result follows vcglib's convention: the sides sharing one (unordered) vertex pair form a
 // cycle through FFp/FFi (two faces point at each other, a border side points at its own face
 // and side, three or more faces of a non-manifold edge form a ring, in ascending face order
-// here). Deleted faces are skipped and keep their old pointers, as in vcglib.
+// here, while vcglib's ring follows its own unstable sort: CleanRawMesh, which walks such rings,
+// falls back to vcglib when UpdateFaceFaceTopology reports a non-manifold edge). Deleted faces are
+// skipped and keep their old pointers, as in vcglib.
 #pragma once
 
 #include <vcg/complex/complex.h>
@@ -71,15 +73,19 @@ void ForEachEdgeSideGroup(std::size_t vertexCount, std::size_t faceCount, Vertex
   }
 }
 
+/// Builds the face-face adjacency of m (see the file comment). Returns the number of
+/// non-manifold edges (three or more faces), whose rings are ordered by face index here.
 template <class MeshType>
-void UpdateFaceFaceTopology(MeshType& m) {
+std::size_t UpdateFaceFaceTopology(MeshType& m) {
   const std::size_t nv = m.vert.size();
-  if (nv == 0 || m.face.empty()) return;
+  if (nv == 0 || m.face.empty()) return 0;
   const auto* vertBegin = &m.vert[0];
+  std::size_t nonManifoldEdges = 0;
   ForEachEdgeSideGroup(
       nv, m.face.size(), [&](std::size_t f, int k) { return std::uint32_t(m.face[f].cV(k) - vertBegin); },
       [&](std::size_t f) { return !m.face[f].IsD(); },
       [&](auto first, auto last) {
+        if (last - first > 2) ++nonManifoldEdges;
         // Each side points at the next one of its group, the last back at the first.
         for (auto it = first; it != last; ++it) {
           const auto to = (it + 1 == last) ? first : it + 1;
@@ -88,6 +94,7 @@ void UpdateFaceFaceTopology(MeshType& m) {
           f.FFi(it->z) = to->z;
         }
       });
+  return nonManifoldEdges;
 }
 
 } // namespace molremesh
