@@ -65,7 +65,12 @@ def portable_results(results):
     return results
 DEFAULT_MOLREMESH_CMD = "{molremesh} remesh {input} {output} --stages clean,cvt,segment,rar"
 METHODS = ("cgal", "meshlab", "molremesh")
-METHOD_LABELS = {"input": "input", "cgal": "CGAL isotropic", "meshlab": "MeshLab isotropic", "molremesh": "molremesh"}
+# Opt-in (--equal-resolution): molremesh again, its target length set to the mean edge length of CGAL's
+# output on the same mesh. CGAL's output at target L is finer than L, molremesh's CVT hits L, so at the
+# same target the two differ in resolution as well as in method; this row compares them at the same one.
+EQUAL_RESOLUTION = "molremesh_at_cgal_edge"
+METHOD_LABELS = {"input": "input", "cgal": "CGAL isotropic", "meshlab": "MeshLab isotropic", "molremesh": "molremesh",
+                 EQUAL_RESOLUTION: "molremesh at CGAL's output edge"}
 
 MESHLAB_MLX = """<!DOCTYPE FilterScript>
 <FilterScript>
@@ -363,6 +368,8 @@ def method_argv(method, tools, args, mesh, output, target, diag, work):
         return [tools.meshlab, "-l", log, "-i", mesh, "-o", output, "-s", mlx]
     argv = format_template(args.molremesh_cmd, molremesh=tools.molremesh, input=mesh, output=output,
                            target="%.9g" % target, iterations=args.iterations)
+    if method == EQUAL_RESOLUTION:
+        argv += ["--target-length", "%.9g" % args._cgal_edge[mesh]]
     if "--json" not in argv and os.path.basename(argv[0]) == "molremesh" and "remesh" in argv:
         argv += ["--json", os.path.join(work, "molremesh_stages.json")]  # per-stage wall times
     return argv
@@ -376,7 +383,7 @@ def algorithm_seconds(method, run, tools, args, mesh, work):
             return float(json.loads(run.stdout)["remesh_seconds"])
         except (ValueError, KeyError):
             return None
-    if method == "molremesh":
+    if method in ("molremesh", EQUAL_RESOLUTION):
         # The pipeline's own stage timers (quality reports between stages, load and save excluded).
         try:
             with open(os.path.join(work, "molremesh_stages.json")) as f:
@@ -464,13 +471,22 @@ def bench_mesh(mesh, tools, args, methods, unavailable, work_root):
         if method in unavailable:
             row["status"] = "n/a (%s)" % unavailable[method]
             continue
+        if method == EQUAL_RESOLUTION:
+            cgal = next((r for r in result["rows"] if r["method"] == "cgal" and r.get("status") == "ok"), None)
+            edge = ((cgal or {}).get("report") or {}).get("mean_edge_length")
+            if not edge:
+                row["status"] = "n/a (no CGAL output to take the edge length from)"
+                continue
+            args._cgal_edge = getattr(args, "_cgal_edge", {})
+            args._cgal_edge[mesh] = edge
+            row["target_edge_length"] = edge
         output = os.path.join(work, "%s_%s.ply" % (name, method))
         argv = method_argv(method, tools, args, mesh, output, target, stats["bbox_diagonal"], work)
         print("  %s: %s" % (method, " ".join(shlex.quote(a) for a in argv)), file=sys.stderr)
         run = run_measured(argv, args.timeout, cwd=work, log_prefix=os.path.join(work, method),
-                           monitor_stages=(method == "molremesh"))
+                           monitor_stages=method in ("molremesh", EQUAL_RESOLUTION))
         row.update(seconds=run.seconds, peak_mb=run.peak_mb, algorithm_seconds=None)
-        if method == "molremesh":
+        if method in ("molremesh", EQUAL_RESOLUTION):
             row["stage_peak_mb"] = run.stage_peaks
             stages_json = os.path.join(work, "molremesh_stages.json")
             try:
@@ -619,13 +635,22 @@ def describe_run(args, methods):
         "",
         "Target edge length L = mean edge length of the input; %d iterations for every method." % args.iterations,
         "",
-        "- **CGAL isotropic**: CGAL 5.5 `Polygon_mesh_processing::isotropic_remeshing`, input read as a polygon "
-        "soup, `repair_polygon_soup` + `orient_polygon_soup` + `polygon_soup_to_polygon_mesh`, nothing protected "
-        "(`benchmarks/cgal_isotropic_remesh`).",
-        "- **MeshLab isotropic**: MeshLab 2020.09 \"Remeshing: Isotropic Explicit Remeshing\" through meshlabserver, "
-        "TargetLen = L (absolute), crease angle 30°, refine/collapse/swap/smooth/reproject on, adaptive and surface "
-        "distance check off (MeshLab's defaults otherwise).",
-        "- **molremesh**: `%s`." % args.molremesh_cmd.replace("|", "\\|"),
+    ]
+    if "cgal" in methods:
+        lines.append("- **CGAL isotropic**: CGAL 5.5 `Polygon_mesh_processing::isotropic_remeshing`, input read as a "
+                     "polygon soup, `repair_polygon_soup` + `orient_polygon_soup` + `polygon_soup_to_polygon_mesh`, "
+                     "nothing protected (`benchmarks/cgal_isotropic_remesh`).")
+    if "meshlab" in methods:
+        lines.append("- **MeshLab isotropic**: MeshLab 2020.09 \"Remeshing: Isotropic Explicit Remeshing\" through "
+                     "meshlabserver, TargetLen = L (absolute), crease angle 30°, refine/collapse/swap/smooth/reproject "
+                     "on, adaptive and surface distance check off (MeshLab's defaults otherwise).")
+    if "molremesh" in methods:
+        lines.append("- **molremesh**: `%s`." % args.molremesh_cmd.replace("|", "\\|"))
+    if EQUAL_RESOLUTION in methods:
+        lines += ["- **molremesh at CGAL's output edge**: the same command with `--target-length` set to the mean "
+                  "edge length of CGAL's output on that mesh (CGAL's output at target L is finer than L, molremesh's "
+                  "CVT hits L); its Hausdorff distances are still over L."]
+    lines += [
         "",
         "Columns: *time s* = wall time of the whole process (load, remesh, save; for MeshLab also Xvfb start-up); "
         "*remesh s* = the remeshing alone (CGAL: measured around the call; MeshLab: estimated as time s minus "
@@ -705,6 +730,9 @@ def main():
     p.add_argument("--skip-meshlab", action="store_true")
     p.add_argument("--skip-molremesh", action="store_true")
     p.add_argument("--skip-tetgen", action="store_true", help="leave the TetGen column out (it is the slowest)")
+    p.add_argument("--equal-resolution", action="store_true",
+                   help="also run molremesh with the target length set to the mean edge length of CGAL's output "
+                        "(needs the CGAL method)")
     p.add_argument("--molremesh-cmd", default=DEFAULT_MOLREMESH_CMD,
                    help="command template of the molremesh method; placeholders {molremesh} {input} {output} "
                         "{target} {iterations} (default: %(default)s)")
@@ -734,11 +762,18 @@ def main():
                     if row["method"] in args.reuse_methods and (row["method"] == "input" or row["method"] not in skip):
                         args._reused[(res["mesh"], row["method"])] = {k: v for k, v in row.items() if k != "method"}
     methods = [m for m in METHODS if m not in skip]
+    if args.equal_resolution:
+        if "cgal" not in methods or "molremesh" not in methods:
+            sys.exit("run_benchmarks: --equal-resolution needs the CGAL and molremesh methods")
+        methods.append(EQUAL_RESOLUTION)
     floor = run_measured(["true"], 60)
     MEMORY_FLOOR_MB[0] = floor.peak_mb or 0.0
     if args.from_json:
         with open(args.from_json) as f:
             results = json.load(f)
+        if EQUAL_RESOLUTION not in methods and any(r["method"] == EQUAL_RESOLUTION for res in results
+                                                   for r in res["rows"]):
+            methods.append(EQUAL_RESOLUTION)
         for res in results:
             print("\n### %s (L = %.4f)\n\n%s\n" % (res["mesh"], res["target_edge_length"], mesh_table(res)))
     else:
