@@ -357,7 +357,8 @@ def format_template(template, **values):
     return shlex.split(template.format(**quoted))
 
 
-def method_argv(method, tools, args, mesh, output, target, diag, work):
+def method_argv(method, tools, args, mesh, output, target, diag, work, length=None):
+    """argv of one method; `length`: the --target-length of the equal-resolution row."""
     if method == "cgal":
         return [tools.cgal, mesh, output, "--target", "%.9g" % target, "--iterations", str(args.iterations)]
     if method == "meshlab":
@@ -369,7 +370,7 @@ def method_argv(method, tools, args, mesh, output, target, diag, work):
     argv = format_template(args.molremesh_cmd, molremesh=tools.molremesh, input=mesh, output=output,
                            target="%.9g" % target, iterations=args.iterations)
     if method == EQUAL_RESOLUTION:
-        argv += ["--target-length", "%.9g" % args._cgal_edge[mesh]]
+        argv += ["--target-length", "%.9g" % length]
     if "--json" not in argv and os.path.basename(argv[0]) == "molremesh" and "remesh" in argv:
         argv += ["--json", os.path.join(work, "molremesh_stages.json")]  # per-stage wall times
     return argv
@@ -477,11 +478,10 @@ def bench_mesh(mesh, tools, args, methods, unavailable, work_root):
             if not edge:
                 row["status"] = "n/a (no CGAL output to take the edge length from)"
                 continue
-            args._cgal_edge = getattr(args, "_cgal_edge", {})
-            args._cgal_edge[mesh] = edge
             row["target_edge_length"] = edge
         output = os.path.join(work, "%s_%s.ply" % (name, method))
-        argv = method_argv(method, tools, args, mesh, output, target, stats["bbox_diagonal"], work)
+        argv = method_argv(method, tools, args, mesh, output, target, stats["bbox_diagonal"], work,
+                           row.get("target_edge_length"))
         print("  %s: %s" % (method, " ".join(shlex.quote(a) for a in argv)), file=sys.stderr)
         run = run_measured(argv, args.timeout, cwd=work, log_prefix=os.path.join(work, method),
                            monitor_stages=method in ("molremesh", EQUAL_RESOLUTION))

@@ -97,4 +97,12 @@ std::size_t UpdateFaceFaceTopology(MeshType& m) {
   return nonManifoldEdges;
 }
 
+/// Face-face (UpdateFaceFaceTopology) and vertex-face adjacency of m: what the stages rebuild
+/// after changing the faces.
+template <class MeshType>
+void UpdateAdjacency(MeshType& m) {
+  UpdateFaceFaceTopology(m);
+  vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+}
+
 } // namespace molremesh

@@ -138,8 +138,7 @@ public:
     session.Run(r);
     r.refused = ops.Stats().Refused();
     ops.Finish();
-    UpdateFaceFaceTopology(m);
-    vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+    UpdateAdjacency(m);
     r.badAfter = Measure(m, params, r.smallAfter, r.obtuseAfter, r.angleMinAfter, r.angleMaxAfter);
     return finish(true, "local smoothing: " + std::to_string(r.badBefore) + " -> " +
                             std::to_string(r.badAfter) + " bad faces");

@@ -153,8 +153,7 @@ public:
     session.Run(r);
     r.refused = ops.Stats().Refused();
     ops.Finish();
-    UpdateFaceFaceTopology(m);
-    vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+    UpdateAdjacency(m);
     Measure(m, lowest, params.threads, r.obtuseAfter, above, r.angleMinAfter, r.angleMaxAfter);
     return finish(true, "obtuse reduction: " + std::to_string(r.obtuseBefore) + " -> " +
                             std::to_string(r.obtuseAfter) + " obtuse faces");

@@ -268,8 +268,7 @@ typename PatchwiseRemeshing<MeshType>::InputTopology PatchwiseRemeshing<MeshType
       ++t.badFaces;
   }
   if (t.badFaces > 0) return t;
-  UpdateFaceFaceTopology(m);
-  vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+  UpdateAdjacency(m);
   double edgeSum = 0;
   std::size_t sides = 0;
   for (FaceType& f : m.face) {
@@ -629,8 +628,7 @@ void PatchwiseRemeshing<MeshType>::Stitch(const Context& ctx, const std::vector<
     vbase += r.verts.size();
   }
   // Border vertices no face uses any more cannot exist (they are locked), but keep the mesh clean.
-  UpdateFaceFaceTopology(out.mesh);
-  vcg::tri::UpdateTopology<MeshType>::VertexFace(out.mesh);
+  UpdateAdjacency(out.mesh);
   IndexPatches(out, int(results.size()));
 }
 
@@ -804,14 +802,12 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   // --- 1. Sizing, border vertices --------------------------------------------------------------------
   auto phase = Clock::now();
   progress(2, "RAR: sizing field");
-  UpdateFaceFaceTopology(m);
-  vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+  UpdateAdjacency(m);
   auto rarParams = rp;
   rarParams.targetEdgeLength = L0;
   Global g0;
   vcg::tri::Append<MeshType, MeshType>::MeshCopy(g0.mesh, m);
-  UpdateFaceFaceTopology(g0.mesh);
-  vcg::tri::UpdateTopology<MeshType>::VertexFace(g0.mesh);
+  UpdateAdjacency(g0.mesh);
   // MeshCopy compacts: map the segmentation onto the copy's faces (same order, deleted skipped).
   g0.facePatch.clear();
   for (std::size_t fi = 0; fi < m.face.size(); ++fi)
@@ -957,8 +953,7 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   // --- Result into m -------------------------------------------------------------------------------
   vcg::tri::Allocator<MeshType>::CompactEveryVector(*output);
   vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, *output);
-  UpdateFaceFaceTopology(m);
-  vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+  UpdateAdjacency(m);
   if (vcg::tri::HasPerFaceNormal(m)) vcg::tri::UpdateNormal<MeshType>::PerFaceNormalized(m);
   if (vcg::tri::HasPerVertexNormal(m)) vcg::tri::UpdateNormal<MeshType>::PerVertexNormalized(m);
   result.verticesOut = std::size_t(m.vn);

@@ -206,8 +206,7 @@ public:
       result.ok = false;
       result.message = std::string("stage '") + record.name + "' failed: " + why + " (the mesh is unchanged)";
       vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, backup);
-      UpdateFaceFaceTopology(m);
-      vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+      UpdateAdjacency(m);
       say(result.message);
       return result;
     };
@@ -255,8 +254,7 @@ public:
       // Segmentation walks face-face adjacency without building it (RAR may segment first); every
       // other stage builds the adjacency it needs on entry.
       if (stage == PipelineStage::Segment || stage == PipelineStage::Rar) {
-        UpdateFaceFaceTopology(m);
-        vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+        UpdateAdjacency(m);
       }
 
       // A surface to remesh needs at least a tetrahedron's 4 faces; fewer (a lone triangle, a
@@ -364,8 +362,7 @@ public:
       say(std::string("stage ") + record.name + " done in " + std::to_string(record.seconds) + " s");
       result.stages.push_back(record);
     }
-    UpdateFaceFaceTopology(m);
-    vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+    UpdateAdjacency(m);
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (cb) cb(100, "done");
     return result;

@@ -163,8 +163,7 @@ public:
     }
     r.refused = ops.Stats().Refused();
     ops.Finish();
-    UpdateFaceFaceTopology(m);
-    vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+    UpdateAdjacency(m);
     r.smallFacesAfter = CountSmall(m, params.minAngleDeg, params.threads, r.angleMinAfter);
     return finish(true, "small-angle elimination: " + std::to_string(r.smallFacesBefore) + " -> " +
                             std::to_string(r.smallFacesAfter) + " faces with an angle below " +

@@ -636,8 +636,7 @@ ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const
     if (!changed) break;
   }
   ops.Finish();
-  UpdateFaceFaceTopology(m);
-  vcg::tri::UpdateTopology<MeshType>::VertexFace(m);
+  UpdateAdjacency(m);
   result.after = Census(m);
   countBad(result.smallAnglesAfter, result.largeAnglesAfter);
   result.ok = true;
