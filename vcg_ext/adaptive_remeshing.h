@@ -1205,7 +1205,8 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
       // corner clearly closer to the input vertex.
       bool moved = false;
       for (const double fraction : {1.0, 0.75, 0.5}) {
-        if (fraction < 1.0 && !partialPhase) break;
+        // The full snaps were refused in the rounds before the partial one.
+        if ((fraction < 1.0) != partialPhase) continue;
         for (const auto& [d2, k] : order) {
           VertexPointer v = f.V(k);
           const std::size_t vi = std::size_t(vcg::tri::Index(m, v));
@@ -1229,6 +1230,8 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
             // Not at the expense of another input point: none may end farther than p now is.
             LocalOpsGuards partialGuards = snapGuards;
             partialGuards.maxInputDistanceFactor = std::max(reached, tolerance) / L0;
+            // Input points farther than L0 / 2 from the moved faces are held by other faces.
+            partialGuards.inputReachFactor = 0.5;
             ops.SetGuards(partialGuards);
             okMove = ops.MoveVertexTo(v, target.point, target.face);
             ops.SetGuards(snapGuards);
@@ -1245,10 +1248,10 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
       }
     }
     moves += roundMoves;
-    if (roundMoves == 0 || round + 1 == params.snapRounds) {
-      if (partialPhase) break;
-      partialPhase = true;
-    }
+    // One partial round once the full snaps stall (under 1 % of the far points moved) or the
+    // rounds are spent.
+    if (partialPhase) break;
+    if (roundMoves * 100 < far.size() || round + 1 == params.snapRounds) partialPhase = true;
   }
   ops.SetGuards(saved);
   return moves;
