@@ -42,10 +42,12 @@
 //    onto it, farthest first, under snapGuards (angles 36..100 degrees), and beyond
 //    snapLooseTolerance x L0 under snapLooseGuards (down to 25 degrees); a few rounds. Where the
 //    guards refuse every corner, a last round moves one 3/4 or 1/2 of the way (a shorter chord
-//    over the cusp), where every face around the corner and its neighbours has its angles in
-//    the snap guards' range before and after, the input vertex's distance drops by a fifth and
-//    no other input point near it ends farther from the result than the input vertex then is
-//    (the fidelity guard): on galactose the one-sided distance drops from 0.135 to 0.096 L0.
+//    over the cusp) for the input vertices at least snapPartialShare of the farthest one's
+//    distance away (those set the Hausdorff distance), where every face around the corner and
+//    its neighbours has its angles in the snap guards' range before and after, the input
+//    vertex's distance drops by a fifth and no other input point near it ends farther from the
+//    result than the input vertex then is (the fidelity guard): on galactose the one-sided
+//    distance drops from 0.135 to 0.096 L0.
 //    The snapped vertices stay locked through the last repair pass, except those of a triangle
 //    the pass leaves below the angle guard: they are released and the pass runs again. Then the volume:
 //    vertices on the input enclose less volume than the input where it is convex (chords cut it), so each
@@ -212,6 +214,8 @@ public:
     double snapMaxMove = 1.0;            ///< such a move is at most this x L0 long
     int snapRounds = 3;                  ///< rounds of snapping (each measures the distances anew); the
                                          ///< partial moves get the rounds left, at least one
+    double snapPartialShare = 0.5;       ///< partial moves only toward input vertices at least this share
+                                         ///< of the farthest one's distance away (> 1: none)
     LocalOpsGuards snapGuards = RarDefaultSnapGuards(); ///< guards of the snapping moves
     LocalOpsGuards snapLooseGuards = RarDefaultSnapLooseGuards(); ///< second try, beyond snapLooseTolerance
     LocalOpsGuards guards = RarDefaultGuards();           ///< collapses, flips, relaxation, repair
@@ -1187,6 +1191,11 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
     for (std::size_t i = 0; i < distance.size(); ++i)
       if (distance[i] > tolerance && hitFace[i] >= 0) far.emplace_back(-distance[i], std::uint32_t(i));
     std::sort(far.begin(), far.end());
+    // The partial moves are a compromise worth making only where the largest distances are.
+    if (partialPhase && !far.empty()) {
+      const double keep = -far.front().first * params.snapPartialShare;
+      while (!far.empty() && -far.back().first < keep) far.pop_back();
+    }
     std::size_t roundMoves = 0;
     for (const auto& [negative, i] : far) {
       const std::size_t fi = faceOf[std::size_t(hitFace[i])];

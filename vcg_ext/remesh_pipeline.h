@@ -244,6 +244,10 @@ public:
       say(std::string("stage ") + record.name + " ...");
       if (cb) cb(int(100 * s / std::max<std::size_t>(1, stageCount)), record.name.c_str());
       const auto stageStart = Clock::now();
+      // A stage that leaves the mesh as it found it (segmentation always, a local stage with
+      // nothing to fix) reuses the previous report instead of measuring the same mesh again.
+      const bool mayReuseReport = params.measureEachStage && !result.stages.empty();
+      const GeometrySnapshot before = mayReuseReport ? GeometrySnapshot::Of(m) : GeometrySnapshot();
       // The stages from valence on share one interface (see RunLocalStage).
       auto runLocal = [&](auto tag, const auto& stageParams) -> std::string {
         using Stage = typename decltype(tag)::Type;
@@ -357,7 +361,19 @@ public:
       if (params.measureEachStage) {
         typename MeshQuality<MeshType>::Params stageQuality = qualityParams;
         stageQuality.computeSelfIntersections = params.intersectionsEachStage || s + 1 == stageCount;
-        record.after = MeshQuality<MeshType>::Compute(m, stageQuality);
+        const QualityReport& previous = result.stages.empty() ? result.input : result.stages.back().after;
+        if (mayReuseReport &&
+            (previous.selfIntersectionsComputed || !stageQuality.computeSelfIntersections) &&
+            before == GeometrySnapshot::Of(m)) {
+          record.after = previous;
+          if (!stageQuality.computeSelfIntersections) { // as a measurement without them reports
+            record.after.selfIntersectingPairs = record.after.adjacentOverlapPairs = 0;
+            record.after.selfIntersectingFaces = 0;
+            record.after.selfIntersectionsComputed = false;
+          }
+        } else {
+          record.after = MeshQuality<MeshType>::Compute(m, stageQuality);
+        }
       }
       say(std::string("stage ") + record.name + " done in " + std::to_string(record.seconds) + " s");
       result.stages.push_back(record);
@@ -369,6 +385,25 @@ public:
   }
 
 private:
+  /// Positions and faces (vertex indices) of the live elements, to tell whether a stage changed
+  /// the mesh. Exact comparison, no hash: a report is reused only for the very same mesh.
+  struct GeometrySnapshot {
+    std::vector<vcg::Point3d> positions;
+    std::vector<std::size_t> faces;
+    static GeometrySnapshot Of(const MeshType& m) {
+      GeometrySnapshot g;
+      g.positions.reserve(m.vert.size());
+      for (const auto& v : m.vert)
+        g.positions.push_back(v.IsD() ? vcg::Point3d(0, 0, 0) : vcg::Point3d::Construct(v.cP()));
+      g.faces.reserve(3 * m.face.size());
+      for (const auto& f : m.face)
+        for (int k = 0; k < 3; ++k)
+          g.faces.push_back(f.IsD() ? ~std::size_t(0) : std::size_t(vcg::tri::Index(m, f.cV(k))));
+      return g;
+    }
+    bool operator==(const GeometrySnapshot& o) const { return positions == o.positions && faces == o.faces; }
+  };
+
   template <class T>
   struct Tag {
     using Type = T;
