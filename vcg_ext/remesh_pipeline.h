@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -388,13 +389,16 @@ private:
   /// Positions and faces (vertex indices) of the live elements, to tell whether a stage changed
   /// the mesh. Exact comparison, no hash: a report is reused only for the very same mesh.
   struct GeometrySnapshot {
+    /// Stands for a deleted vertex (a live one is finite: the pipeline refuses other input).
+    static constexpr double kDeleted = std::numeric_limits<double>::infinity();
     std::vector<vcg::Point3d> positions;
     std::vector<std::size_t> faces;
     static GeometrySnapshot Of(const MeshType& m) {
       GeometrySnapshot g;
       g.positions.reserve(m.vert.size());
       for (const auto& v : m.vert)
-        g.positions.push_back(v.IsD() ? vcg::Point3d(0, 0, 0) : vcg::Point3d::Construct(v.cP()));
+        g.positions.push_back(v.IsD() ? vcg::Point3d(kDeleted, kDeleted, kDeleted)
+                                      : vcg::Point3d::Construct(v.cP()));
       g.faces.reserve(3 * m.face.size());
       for (const auto& f : m.face)
         for (int k = 0; k < 3; ++k)
