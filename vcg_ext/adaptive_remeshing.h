@@ -1085,15 +1085,13 @@ AdaptiveRemeshingStats AdaptiveRemeshing<MeshType>::Finalize(Ops& ops, std::vect
   // Fidelity yields to the angle bound: a snapped vertex of a triangle the repair left with an
   // angle below the guard is released, and the repair runs once more.
   bool released = false;
-  for (FaceType& f : m.face) {
-    if (f.IsD()) continue;
-    double smallest = 0, largest = 0;
-    TriangleAngleRange(Ops::ToPoint(f.cV(0)->cP()), Ops::ToPoint(f.cV(1)->cP()), Ops::ToPoint(f.cV(2)->cP()),
-                       smallest, largest);
-    if (smallest >= params.guards.minAngleDeg) continue;
+  std::vector<std::array<double, 2>> angles;
+  FaceAngleRanges(m, threads, angles); // deleted faces get {180, 0}: never below the guard
+  for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
+    if (angles[fi][0] >= params.guards.minAngleDeg) continue;
     for (int k = 0; k < 3; ++k)
-      if (ops.IsLocked(*f.V(k))) {
-        ops.SetLocked(*f.V(k), false);
+      if (ops.IsLocked(*m.face[fi].V(k))) {
+        ops.SetLocked(*m.face[fi].V(k), false);
         released = true;
       }
   }
@@ -1123,9 +1121,13 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
   std::size_t moves = 0;
   std::vector<double> distance(ref.VertexCount());
   std::vector<long long> hitFace(ref.VertexCount());
+  // Whether a triangle with angles in [smallest, largest] lies in the snap guards' range.
+  const auto InSnapRange = [&](double smallest, double largest) {
+    return smallest >= snapGuards.minAngleDeg && largest <= snapGuards.maxAngleDeg;
+  };
   // Distance from p to the faces around v with v moved to q; infinite when one of these faces
-  // would have an angle outside the snap guards' range (a partial move is locked through the
-  // repair pass, so it must leave good triangles, not merely better ones).
+  // would leave the snap guards' range (a partial move is locked through the repair pass, so it
+  // must leave good triangles, not merely better ones).
   const auto StarDistance = [&](VertexPointer v, const Point& q, const Point& p) {
     double best2 = std::numeric_limits<double>::infinity();
     for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it) {
@@ -1133,8 +1135,7 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
       for (int k = 0; k < 3; ++k) corner[k] = it.F()->V(k) == v ? q : Ops::ToPoint(it.F()->cV(k)->cP());
       double smallest = 0, largest = 0;
       TriangleAngleRange(corner[0], corner[1], corner[2], smallest, largest);
-      if (smallest < snapGuards.minAngleDeg || largest > snapGuards.maxAngleDeg)
-        return std::numeric_limits<double>::infinity();
+      if (!InSnapRange(smallest, largest)) return std::numeric_limits<double>::infinity();
       Point closest;
       best2 =
           std::min(best2, distance_detail::TriangleDistance2(p, corner[0], corner[1], corner[2], closest));
@@ -1148,9 +1149,8 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
     const auto calm = [&](VertexPointer u) {
       for (vcg::face::VFIterator<FaceType> it(u); !it.End(); ++it) {
         double smallest = 0, largest = 0;
-        TriangleAngleRange(Ops::ToPoint(it.F()->cV(0)->cP()), Ops::ToPoint(it.F()->cV(1)->cP()),
-                           Ops::ToPoint(it.F()->cV(2)->cP()), smallest, largest);
-        if (smallest < snapGuards.minAngleDeg || largest > snapGuards.maxAngleDeg) return false;
+        FaceAngleRange(*it.F(), smallest, largest);
+        if (!InSnapRange(smallest, largest)) return false;
       }
       return true;
     };
@@ -1158,6 +1158,8 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
       if (!calm(it.F()->V1(it.I()))) return false;
     return calm(v);
   };
+  const std::vector<double> kFullFraction{1.0},
+      kPartialFractions{0.75, 0.5};   // of the way to the input vertex
   constexpr double partialGain = 0.8; // a partial move must cut the distance by 20 % at least
   bool partialPhase = false;          // after the full snaps stop: part of the way
   for (int round = 0; round < params.snapRounds + 1; ++round) {
@@ -1213,9 +1215,8 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
       // the way (the cusp is then cut by a shorter chord), when that brings the star of the
       // corner clearly closer to the input vertex.
       bool moved = false;
-      for (const double fraction : {1.0, 0.75, 0.5}) {
-        // The full snaps were refused in the rounds before the partial one.
-        if ((fraction < 1.0) != partialPhase) continue;
+      // The partial round does not retry the full snaps the rounds before it refused.
+      for (const double fraction : partialPhase ? kPartialFractions : kFullFraction) {
         for (const auto& [d2, k] : order) {
           VertexPointer v = f.V(k);
           const std::size_t vi = std::size_t(vcg::tri::Index(m, v));
