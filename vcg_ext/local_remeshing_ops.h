@@ -58,10 +58,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -142,13 +144,14 @@ bool FacesIntersect(const std::array<Point, 3>& a, const Point& na, const std::a
     for (int y = 0; y < 3; ++y)
       if (va[x] == vb[y]) ++shared, ca = x, cb = y;
   if (shared >= 2) return false;
-  if (shared == 1 && simpleFan(va[ca])) return false;
   if (shared == 0) {
     if (SeparatedByPlane(na, a[0], b, -1, margin) || SeparatedByPlane(nb, b[0], a, -1, margin)) return false;
     return quality_detail::TrianglesIntersect(quality_detail::MakePlanarTriangle(a[0], a[1], a[2]),
                                               quality_detail::MakePlanarTriangle(b[0], b[1], b[2]));
   }
+  // The plane test first: it settles most pairs of a star, and simpleFan may be costly.
   if (SeparatedByPlane(na, a[ca], b, cb, margin) || SeparatedByPlane(nb, b[cb], a, ca, margin)) return false;
+  if (simpleFan(va[ca])) return false;
   return quality_detail::SharedCornerOverlap(quality_detail::MakePlanarTriangle(a[0], a[1], a[2]), ca,
                                              quality_detail::MakePlanarTriangle(b[0], b[1], b[2]), cb);
 }
@@ -442,6 +445,8 @@ private:
   OpRefusal CheckRegion(double maxEdgeFromVertexLength = std::numeric_limits<double>::infinity(),
                         const VertexType* lengthVertex = nullptr);
   bool NewFacesIntersect();
+  /// StarIsSimpleFan for vertex vi, computed once per sweep (thread-safe; see VerifyPendingMoves).
+  bool StarIsSimpleFanCached(std::uint32_t vi) const;
   /// The fidelity guard (LocalOpsGuards::maxInputDistanceFactor): true when the new faces leave
   /// an input point near the region farther from the mesh than allowed.
   bool NewFacesLeaveInput();
@@ -502,7 +507,8 @@ private:
   }
   FaceVerdict VerifyBatchFace(std::size_t fi, FaceHashGrid::QueryMarks& marks, bool intersections) const;
   TrianglePairScan scan_;
-  std::vector<std::uint8_t> simpleFan_; ///< per vertex, valid during a sweep
+  std::unique_ptr<std::atomic<std::uint8_t>[]>
+      simpleFan_; ///< per vertex, during a sweep (see VerifyPendingMoves)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> scanPairs_;
   std::vector<int> batchIndex_; ///< per vertex: entry in batch_, or -1
   std::vector<BatchEntry> batch_;
@@ -1078,6 +1084,31 @@ bool LocalRemeshingOps<MeshType>::NewFacesLeaveInput() {
 }
 
 template <class MeshType>
+bool LocalRemeshingOps<MeshType>::StarIsSimpleFanCached(std::uint32_t vi) const {
+  const std::uint8_t known = simpleFan_[vi].load(std::memory_order_relaxed);
+  if (known != 0) return known == 2;
+  const VertexType& v = m_.vert[vi];
+  bool simple = false;
+  if (!v.IsD() && v.cVFp() != nullptr) {
+    std::array<std::pair<Point, Point>, 64> link;
+    int count = 0;
+    bool boundary = false, overflow = false;
+    for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&v)); !it.End(); ++it) {
+      if (count == int(link.size())) {
+        overflow = true;
+        break;
+      }
+      const int k = it.I();
+      link[count++] = {Pos(it.F()->cV((k + 1) % 3)), Pos(it.F()->cV((k + 2) % 3))};
+      if (IsBorder(*it.F(), k) || IsBorder(*it.F(), (k + 2) % 3)) boundary = true;
+    }
+    simple = !overflow && local_ops_detail::StarIsSimpleFan(Pos(&v), link.data(), count, boundary);
+  }
+  simpleFan_[vi].store(simple ? 2 : 1, std::memory_order_relaxed);
+  return simple;
+}
+
+template <class MeshType>
 bool LocalRemeshingOps<MeshType>::NewFacesIntersect() {
   using local_ops_detail::FacesIntersect;
   const std::size_t n = newFaces_.size();
@@ -1294,26 +1325,12 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
         256);
     scanPairs_.clear();
     if (sweep) {
-      simpleFan_.assign(m_.vert.size(), 0);
+      // Star shapes are computed on demand (most pairs of a star are settled by the plane
+      // test): 0 = not yet known, 1 = not a simple fan, 2 = a simple fan. Two threads may
+      // compute the same vertex; they store the same value.
+      simpleFan_.reset(new std::atomic<std::uint8_t>[m_.vert.size()]);
       ParallelFor(m_.vert.size(), nThreads, [&](std::size_t begin, std::size_t end, int) {
-        std::array<std::pair<Point, Point>, 64> link;
-        for (std::size_t vi = begin; vi < end; ++vi) {
-          const VertexType& v = m_.vert[vi];
-          if (v.IsD() || v.cVFp() == nullptr) continue;
-          int count = 0;
-          bool boundary = false, overflow = false;
-          for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&v)); !it.End(); ++it) {
-            if (count == int(link.size())) {
-              overflow = true;
-              break;
-            }
-            const int k = it.I();
-            link[count++] = {Pos(it.F()->cV((k + 1) % 3)), Pos(it.F()->cV((k + 2) % 3))};
-            if (IsBorder(*it.F(), k) || IsBorder(*it.F(), (k + 2) % 3)) boundary = true;
-          }
-          if (!overflow)
-            simpleFan_[vi] = local_ops_detail::StarIsSimpleFan(Pos(&v), link.data(), count, boundary);
-        }
+        for (std::size_t vi = begin; vi < end; ++vi) simpleFan_[vi].store(0, std::memory_order_relaxed);
       });
       scan_.Build(
           m_.face.size(),
@@ -1331,8 +1348,9 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
       scan_.FindPairs(
           nThreads,
           [&](const TrianglePairScan::Triangle& a, const TrianglePairScan::Triangle& b) {
-            return local_ops_detail::FacesIntersect(a.p, a.n, a.v, b.p, b.n, b.v, margin_,
-                                                    [&](std::uint32_t v) { return simpleFan_[v] != 0; });
+            return local_ops_detail::FacesIntersect(
+                a.p, a.n, a.v, b.p, b.n, b.v, margin_,
+                [&](std::uint32_t v) { return StarIsSimpleFanCached(v); });
           },
           scanPairs_);
     }

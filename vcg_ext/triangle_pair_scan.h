@@ -88,7 +88,14 @@ private:
   std::vector<std::uint64_t> keys_;
   std::vector<std::uint32_t> order_, tmp_;
   std::vector<Triangle> sorted_;
-  std::vector<vcg::Box3d> sortedBox_;
+  /// A bounding box in single precision, rounded outward: touching double boxes always touch
+  /// as FloatBoxes (pairs touching only after rounding go to the exact test, which rejects
+  /// them), and twice as many fit in a cache line.
+  struct FloatBox {
+    std::array<float, 3> lo, hi;
+  };
+  std::vector<FloatBox> sortedBox_;
+  std::vector<std::uint8_t> sortedMoved_;
   std::vector<std::array<std::uint32_t, 3>> cellOf_; // cell coordinates of each sorted triangle
   std::vector<Cell> cells_;
   std::vector<std::uint64_t> tableKeys_;
@@ -167,12 +174,19 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
   // Contiguous copies in curve order, and the cells as runs.
   sorted_.resize(order_.size());
   sortedBox_.resize(order_.size());
+  sortedMoved_.resize(order_.size());
   cellOf_.resize(order_.size());
   ParallelFor(order_.size(), threads, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t k = begin; k < end; ++k) {
       const std::uint32_t i = order_[k];
       sorted_[k] = input_[i];
-      sortedBox_[k] = inputBox_[i];
+      for (int a = 0; a < 3; ++a) {
+        sortedBox_[k].lo[a] =
+            std::nextafter(float(inputBox_[i].min[a]), -std::numeric_limits<float>::infinity());
+        sortedBox_[k].hi[a] =
+            std::nextafter(float(inputBox_[i].max[a]), std::numeric_limits<float>::infinity());
+      }
+      sortedMoved_[k] = input_[i].moved ? 1 : 0;
       for (int a = 0; a < 3; ++a) cellOf_[k][a] = std::uint32_t((inputBox_[i].min[a] - all.min[a]) * inv);
     }
   });
@@ -209,14 +223,14 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx)
         if (dz > 0 || (dz == 0 && (dy > 0 || (dy == 0 && dx > 0)))) offsets[count++] = {dx, dy, dz};
-  auto touch = [](const vcg::Box3d& a, const vcg::Box3d& b) {
-    return a.min[0] <= b.max[0] && b.min[0] <= a.max[0] && a.min[1] <= b.max[1] && b.min[1] <= a.max[1] &&
-           a.min[2] <= b.max[2] && b.min[2] <= a.max[2];
+  auto touch = [](const FloatBox& a, const FloatBox& b) {
+    return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
+           a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2];
   };
   ParallelFor(cells_.size(), nThreads, [&](std::size_t begin, std::size_t end, int t) {
     auto& pairs = threadPairs_[t];
     auto test = [&](std::uint32_t a, std::uint32_t b) {
-      if (!sorted_[a].moved && !sorted_[b].moved) return;
+      if ((sortedMoved_[a] | sortedMoved_[b]) == 0) return;
       if (!touch(sortedBox_[a], sortedBox_[b])) return;
       if (intersect(sorted_[a], sorted_[b])) {
         const std::uint32_t i = order_[a], j = order_[b];
