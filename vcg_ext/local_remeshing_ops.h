@@ -267,8 +267,8 @@ public:
   /// The topology part of Init, usable on its own before anything costly is built: recomputes
   /// FF and VF adjacency and checks that m is a 2-manifold, consistently oriented mesh without
   /// faces with a repeated vertex. Returns false with a message otherwise (only the adjacency
-  /// has changed then). Init runs it unless told topologyReady.
-  static bool PrepareTopology(MeshType& m, std::string* error = nullptr);
+  /// has changed then). Init runs it unless told topologyReady. The checks run on `threads` cores (0 = all).
+  static bool PrepareTopology(MeshType& m, std::string* error = nullptr, int threads = 0);
 
   // --- Operations: each returns whether it was applied; a refused one changes nothing. -------
 
@@ -591,7 +591,7 @@ std::string LocalRemeshingOps<MeshType>::AdjacencyProblem(const MeshType& m) {
 }
 
 template <class MeshType>
-bool LocalRemeshingOps<MeshType>::PrepareTopology(MeshType& m, std::string* error) {
+bool LocalRemeshingOps<MeshType>::PrepareTopology(MeshType& m, std::string* error, int threads) {
   auto fail = [&](const std::string& message) {
     if (error) *error = message;
     return false;
@@ -607,55 +607,70 @@ bool LocalRemeshingOps<MeshType>::PrepareTopology(MeshType& m, std::string* erro
   UpdateAdjacency(m);
 
   // 2-manifold and consistently oriented: every edge has one or two faces, two faces traverse
-  // it in opposite directions, and the faces at each vertex form a single fan.
-  std::size_t nonManifoldEdges = 0, misoriented = 0, nonManifoldVertices = 0;
-  for (auto& f : m.face) {
-    if (f.IsD()) continue;
-    for (int e = 0; e < 3; ++e) {
-      if (IsBorder(f, e)) continue;
-      const FaceType* g = f.cFFp(e);
-      const int w = f.cFFi(e);
-      if (g->cFFp(w) != &f)
-        ++nonManifoldEdges;
-      else if (g->cV(w) != f.cV((e + 1) % 3) || g->cV((w + 1) % 3) != f.cV(e))
-        ++misoriented;
+  // it in opposite directions, and the faces at each vertex form a single fan. Read-only, so
+  // the checks run on `threads` cores (0 = all; each thread counts into its own slot).
+  threads = ResolveThreadCount(threads);
+  std::vector<std::array<std::size_t, 3>> counts(std::size_t(threads), {0, 0, 0});
+  ParallelFor(m.face.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+    std::array<std::size_t, 3>& c = counts[std::size_t(t)];
+    for (std::size_t fi = begin; fi < end; ++fi) {
+      const FaceType& f = m.face[fi];
+      if (f.IsD()) continue;
+      for (int e = 0; e < 3; ++e) {
+        if (IsBorder(f, e)) continue;
+        const FaceType* g = f.cFFp(e);
+        const int w = f.cFFi(e);
+        if (g->cFFp(w) != &f)
+          ++c[0];
+        else if (g->cV(w) != f.cV((e + 1) % 3) || g->cV((w + 1) % 3) != f.cV(e))
+          ++c[1];
+      }
     }
+  });
+  ParallelFor(m.vert.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+    for (std::size_t vi = begin; vi < end; ++vi) {
+      VertexType& v = m.vert[vi];
+      if (v.IsD() || v.VFp() == nullptr) continue;
+      std::size_t inList = 0;
+      for (vcg::face::VFIterator<FaceType> it(&v); !it.End(); ++it) ++inList;
+      // Walk the fan through FF in both directions from the first face.
+      std::size_t inFan = 0;
+      FacePointer f0 = v.VFp();
+      FacePointer f = f0;
+      int k = v.VFi();
+      bool border = false;
+      do {
+        ++inFan;
+        FacePointer g = f->FFp(k); // across edge (v, next)
+        if (g == f) {
+          border = true;
+          break;
+        }
+        k = IndexIn(*g, &v);
+        f = g;
+      } while (f != f0 && inFan <= inList);
+      if (border) {
+        f = f0;
+        k = v.VFi();
+        for (;;) {
+          FacePointer g = f->FFp((k + 2) % 3); // across edge (prev, v)
+          if (g == f || inFan > inList) break;
+          ++inFan;
+          k = IndexIn(*g, &v);
+          f = g;
+        }
+      }
+      if (inFan != inList) ++counts[std::size_t(t)][2];
+    }
+  });
+  std::size_t nonManifoldEdges = 0, misoriented = 0, nonManifoldVertices = 0;
+  for (const auto& c : counts) {
+    nonManifoldEdges += c[0];
+    misoriented += c[1];
+    nonManifoldVertices += c[2];
   }
   if (nonManifoldEdges > 0) return fail("the mesh has non-manifold edges; run the cleaning stage first");
   if (misoriented > 0) return fail("the mesh is not consistently oriented; run the cleaning stage first");
-  for (auto& v : m.vert) {
-    if (v.IsD() || v.VFp() == nullptr) continue;
-    std::size_t inList = 0;
-    for (vcg::face::VFIterator<FaceType> it(&v); !it.End(); ++it) ++inList;
-    // Walk the fan through FF in both directions from the first face.
-    std::size_t inFan = 0;
-    FacePointer f0 = v.VFp();
-    FacePointer f = f0;
-    int k = v.VFi();
-    bool border = false;
-    do {
-      ++inFan;
-      FacePointer g = f->FFp(k); // across edge (v, next)
-      if (g == f) {
-        border = true;
-        break;
-      }
-      k = IndexIn(*g, &v);
-      f = g;
-    } while (f != f0 && inFan <= inList);
-    if (border) {
-      f = f0;
-      k = v.VFi();
-      for (;;) {
-        FacePointer g = f->FFp((k + 2) % 3); // across edge (prev, v)
-        if (g == f || inFan > inList) break;
-        ++inFan;
-        k = IndexIn(*g, &v);
-        f = g;
-      }
-    }
-    if (inFan != inList) ++nonManifoldVertices;
-  }
   if (nonManifoldVertices > 0)
     return fail("the mesh has non-manifold vertices; run the cleaning stage first");
 
@@ -673,7 +688,7 @@ bool LocalRemeshingOps<MeshType>::Init(std::string* error, bool meshIsReference,
     return fail("face-face and vertex-face adjacency must be enabled on the mesh");
   if (ref_.Empty()) return fail("the reference surface is empty");
   if (!(L_ > 0) || !std::isfinite(L_)) return fail("the target edge length must be positive");
-  if (!topologyReady && !PrepareTopology(m_, error)) return false;
+  if (!topologyReady && !PrepareTopology(m_, error, threads_)) return false;
   hasBorder_ = false;
   for (const auto& f : m_.face)
     if (!f.IsD() && (IsBorder(f, 0) || IsBorder(f, 1) || IsBorder(f, 2))) hasBorder_ = true;
