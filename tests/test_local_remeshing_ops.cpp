@@ -531,6 +531,38 @@ TEST(LocalRemeshingOps, PendingMovesAreVerifiedBeforeAnyOtherOperation) {
   ExpectValid(s.m, 0, 1);
 }
 
+TEST(LocalRemeshingOps, BatchSweepFindsAStarThatOverlapsItself) {
+  // A hexagonal fan whose centre moves far past the rim, in its plane: the faces towards the far
+  // rim edges then cross the faces towards the near ones, and all of these pairs share only the
+  // centre. Only the intersection test may refuse here (angle, normal and fold guards off).
+  LocalOpsGuards guards;
+  guards.minAngleDeg = 0;
+  guards.maxNormalDeviationDeg = 180;
+  guards.maxFoldAngleDeg = 180;
+  std::vector<Point> points{Point(0, 0, 0)};
+  std::vector<std::array<int, 3>> faces;
+  for (int i = 0; i < 6; ++i) {
+    const double a = i * 3.14159265358979323846 / 3.0;
+    points.emplace_back(std::cos(a), std::sin(a), 0);
+    faces.push_back({0, 1 + i, 1 + (i + 1) % 6});
+  }
+  for (const int threads : {1, 2}) {
+    OpsSetup<MeshD> s;
+    MakeMesh(s.m, points, faces);
+    s.Start(guards, threads);
+    auto& centre = s.m.vert[0];
+    ASSERT_TRUE(s.ops->MoveVertexUnchecked(&centre, Point(0.2, -2.5, 0), s.ops->Footpoint(centre)));
+    const BatchMoveResult r = s.ops->VerifyPendingMoves(threads);
+    EXPECT_EQ(r.rejected, 1u);
+    EXPECT_EQ(centre.P(), Point(0, 0, 0));
+    ExpectValid(s.m, -2, 1);
+    // A move inside the rim is a simple fan again: accepted.
+    ASSERT_TRUE(s.ops->MoveVertexUnchecked(&centre, Point(0.2, -0.3, 0.1), s.ops->Footpoint(centre)));
+    EXPECT_EQ(s.ops->VerifyPendingMoves(threads).applied, 1u);
+    EXPECT_EQ(centre.P(), Point(0.2, -0.3, 0.1));
+  }
+}
+
 // --- A real mesh -------------------------------------------------------------------------------------
 
 TEST(LocalRemeshingOps, RandomOperationsOnARealMolecularSurface) {

@@ -58,12 +58,10 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -149,7 +147,7 @@ bool FacesIntersect(const std::array<Point, 3>& a, const Point& na, const std::a
     return quality_detail::TrianglesIntersect(quality_detail::MakePlanarTriangle(a[0], a[1], a[2]),
                                               quality_detail::MakePlanarTriangle(b[0], b[1], b[2]));
   }
-  // The plane test first: it settles most pairs of a star, and simpleFan may be costly.
+  // The plane test first: it is cheaper than simpleFan.
   if (SeparatedByPlane(na, a[ca], b, cb, margin) || SeparatedByPlane(nb, b[cb], a, ca, margin)) return false;
   if (simpleFan(va[ca])) return false;
   return quality_detail::SharedCornerOverlap(quality_detail::MakePlanarTriangle(a[0], a[1], a[2]), ca,
@@ -445,8 +443,10 @@ private:
   OpRefusal CheckRegion(double maxEdgeFromVertexLength = std::numeric_limits<double>::infinity(),
                         const VertexType* lengthVertex = nullptr);
   bool NewFacesIntersect();
-  /// StarIsSimpleFan for vertex vi, computed once per sweep (thread-safe; see VerifyPendingMoves).
-  bool StarIsSimpleFanCached(std::uint32_t vi) const;
+  /// Appends to `pairs` the pairs (f, g), f < g, of faces that share exactly one vertex, involve a
+  /// face moved in the batch and meet beyond that vertex (FacesIntersect), found star by star:
+  /// a star that is a simple fan (StarIsSimpleFan) has no such pair.
+  void StarPairs(int threads, std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) const;
   /// The fidelity guard (LocalOpsGuards::maxInputDistanceFactor): true when the new faces leave
   /// an input point near the region farther from the mesh than allowed.
   bool NewFacesLeaveInput();
@@ -507,8 +507,6 @@ private:
   }
   FaceVerdict VerifyBatchFace(std::size_t fi, FaceHashGrid::QueryMarks& marks, bool intersections) const;
   TrianglePairScan scan_;
-  std::unique_ptr<std::atomic<std::uint8_t>[]>
-      simpleFan_; ///< per vertex, during a sweep (see VerifyPendingMoves)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> scanPairs_;
   std::vector<int> batchIndex_; ///< per vertex: entry in batch_, or -1
   std::vector<BatchEntry> batch_;
@@ -1099,28 +1097,53 @@ bool LocalRemeshingOps<MeshType>::NewFacesLeaveInput() {
 }
 
 template <class MeshType>
-bool LocalRemeshingOps<MeshType>::StarIsSimpleFanCached(std::uint32_t vi) const {
-  const std::uint8_t known = simpleFan_[vi].load(std::memory_order_relaxed);
-  if (known != 0) return known == 2;
-  const VertexType& v = m_.vert[vi];
-  bool simple = false;
-  if (!v.IsD() && v.cVFp() != nullptr) {
-    std::array<std::pair<Point, Point>, 64> link;
-    int count = 0;
-    bool boundary = false, overflow = false;
-    for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&v)); !it.End(); ++it) {
-      if (count == int(link.size())) {
-        overflow = true;
-        break;
+void LocalRemeshingOps<MeshType>::StarPairs(
+    int threads, std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) const {
+  threads = ResolveThreadCount(threads);
+  std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> found(static_cast<std::size_t>(threads));
+  ParallelFor(m_.vert.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+    std::vector<const FaceType*> star;
+    std::vector<std::pair<Point, Point>> link;
+    for (std::size_t vi = begin; vi < end; ++vi) {
+      const VertexType& v = m_.vert[vi];
+      if (v.IsD() || v.cVFp() == nullptr) continue;
+      star.clear();
+      link.clear();
+      bool boundary = false, moved = false;
+      for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&v)); !it.End(); ++it) {
+        const int k = it.I();
+        star.push_back(it.F());
+        link.emplace_back(Pos(it.F()->cV((k + 1) % 3)), Pos(it.F()->cV((k + 2) % 3)));
+        if (IsBorder(*it.F(), k) || IsBorder(*it.F(), (k + 2) % 3)) boundary = true;
+        if (MovedInBatch(*it.F())) moved = true;
       }
-      const int k = it.I();
-      link[count++] = {Pos(it.F()->cV((k + 1) % 3)), Pos(it.F()->cV((k + 2) % 3))};
-      if (IsBorder(*it.F(), k) || IsBorder(*it.F(), (k + 2) % 3)) boundary = true;
+      if (!moved) continue;
+      if (local_ops_detail::StarIsSimpleFan(Pos(&v), link.data(), int(link.size()), boundary)) continue;
+      for (std::size_t i = 0; i < star.size(); ++i)
+        for (std::size_t j = i + 1; j < star.size(); ++j) {
+          const FaceType &f = *star[i], &g = *star[j];
+          if (!MovedInBatch(f) && !MovedInBatch(g)) continue;
+          std::array<Point, 3> a, b;
+          std::array<const VertexType*, 3> va, vb;
+          int shared = 0;
+          for (int k = 0; k < 3; ++k) {
+            va[k] = f.cV(k);
+            vb[k] = g.cV(k);
+            a[k] = Pos(va[k]);
+            b[k] = Pos(vb[k]);
+          }
+          for (int x = 0; x < 3; ++x)
+            for (int y = 0; y < 3; ++y) shared += va[x] == vb[y] ? 1 : 0;
+          if (shared != 1) continue;
+          using local_ops_detail::UnitNormal;
+          if (!local_ops_detail::FacesIntersect(a, UnitNormal(a), va, b, UnitNormal(b), vb, margin_))
+            continue;
+          const std::uint32_t fi = std::uint32_t(FIndex(f)), gi = std::uint32_t(FIndex(g));
+          found[std::size_t(t)].emplace_back(std::min(fi, gi), std::max(fi, gi));
+        }
     }
-    simple = !overflow && local_ops_detail::StarIsSimpleFan(Pos(&v), link.data(), count, boundary);
-  }
-  simpleFan_[vi].store(simple ? 2 : 1, std::memory_order_relaxed);
-  return simple;
+  });
+  for (const auto& list : found) pairs.insert(pairs.end(), list.begin(), list.end());
 }
 
 template <class MeshType>
@@ -1340,13 +1363,6 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
         256);
     scanPairs_.clear();
     if (sweep) {
-      // Star shapes are computed on demand (most pairs of a star are settled by the plane
-      // test): 0 = not yet known, 1 = not a simple fan, 2 = a simple fan. Two threads may
-      // compute the same vertex; they store the same value.
-      simpleFan_.reset(new std::atomic<std::uint8_t>[m_.vert.size()]);
-      ParallelFor(m_.vert.size(), nThreads, [&](std::size_t begin, std::size_t end, int) {
-        for (std::size_t vi = begin; vi < end; ++vi) simpleFan_[vi].store(0, std::memory_order_relaxed);
-      });
       scan_.Build(
           m_.face.size(),
           [&](std::size_t fi, TrianglePairScan::Triangle& t) {
@@ -1360,14 +1376,18 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
             }
           },
           nThreads);
+      // Pairs without a common vertex: the scan. Pairs sharing an edge are never reported, and
+      // pairs sharing one vertex are settled star by star: none of them can meet when the star
+      // is a simple fan, which nearly every star is.
       scan_.FindPairs(
           nThreads,
           [&](const TrianglePairScan::Triangle& a, const TrianglePairScan::Triangle& b) {
-            return local_ops_detail::FacesIntersect(
-                a.p, a.n, a.v, b.p, b.n, b.v, margin_,
-                [&](std::uint32_t v) { return StarIsSimpleFanCached(v); });
+            return local_ops_detail::FacesIntersect(a.p, a.n, a.v, b.p, b.n, b.v, margin_);
           },
-          scanPairs_);
+          scanPairs_, /*skipSharedVertex=*/true);
+      StarPairs(nThreads, scanPairs_);
+      std::sort(scanPairs_.begin(), scanPairs_.end());
+      scanPairs_.erase(std::unique(scanPairs_.begin(), scanPairs_.end()), scanPairs_.end());
     }
     reverted.clear();
     auto revertFace = [&](const FaceType& f) {

@@ -46,9 +46,12 @@ public:
   void Build(std::size_t n, Fill&& fill, int threads);
 
   /// Pairs (i, j), i < j (indices as given to Build), that intersect and involve a moved triangle.
-  /// intersect(a, b) decides a candidate pair (boxes touching) from two Triangles.
+  /// intersect(a, b) decides a candidate pair (boxes touching) from two Triangles. With
+  /// skipSharedVertex, pairs with a common vertex id are never tested (the caller settles them
+  /// star by star, where most are settled at once).
   template <class Intersect>
-  void FindPairs(int threads, Intersect&& intersect, std::vector<std::pair<std::uint32_t, std::uint32_t>>& out);
+  void FindPairs(int threads, Intersect&& intersect,
+                 std::vector<std::pair<std::uint32_t, std::uint32_t>>& out, bool skipSharedVertex = false);
 
 private:
   struct Cell {
@@ -96,6 +99,7 @@ private:
   };
   std::vector<FloatBox> sortedBox_;
   std::vector<std::uint8_t> sortedMoved_;
+  std::vector<std::array<std::uint32_t, 3>> sortedIds_;
   std::vector<std::array<std::uint32_t, 3>> cellOf_; // cell coordinates of each sorted triangle
   std::vector<Cell> cells_;
   std::vector<std::uint64_t> tableKeys_;
@@ -175,6 +179,7 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
   sorted_.resize(order_.size());
   sortedBox_.resize(order_.size());
   sortedMoved_.resize(order_.size());
+  sortedIds_.resize(order_.size());
   cellOf_.resize(order_.size());
   ParallelFor(order_.size(), threads, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t k = begin; k < end; ++k) {
@@ -187,6 +192,7 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
             std::nextafter(float(inputBox_[i].max[a]), std::numeric_limits<float>::infinity());
       }
       sortedMoved_[k] = input_[i].moved ? 1 : 0;
+      sortedIds_[k] = input_[i].v;
       for (int a = 0; a < 3; ++a) cellOf_[k][a] = std::uint32_t((inputBox_[i].min[a] - all.min[a]) * inv);
     }
   });
@@ -210,7 +216,8 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
 
 template <class Intersect>
 void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
-                                 std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) {
+                                 std::vector<std::pair<std::uint32_t, std::uint32_t>>& out,
+                                 bool skipSharedVertex) {
   out.clear();
   const int nThreads = ResolveThreadCount(threads);
   threadPairs_.resize(nThreads);
@@ -232,6 +239,11 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
     auto test = [&](std::uint32_t a, std::uint32_t b) {
       if ((sortedMoved_[a] | sortedMoved_[b]) == 0) return;
       if (!touch(sortedBox_[a], sortedBox_[b])) return;
+      if (skipSharedVertex) {
+        const std::array<std::uint32_t, 3>&ia = sortedIds_[a], &ib = sortedIds_[b];
+        for (const std::uint32_t x : ia)
+          if (x == ib[0] || x == ib[1] || x == ib[2]) return;
+      }
       if (intersect(sorted_[a], sorted_[b])) {
         const std::uint32_t i = order_[a], j = order_[b];
         pairs.emplace_back(std::min(i, j), std::max(i, j));
