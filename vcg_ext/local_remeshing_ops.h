@@ -130,13 +130,12 @@ inline bool SeparatedByPlane(const Point& n, const Point& origin, const std::arr
 /// vertex meet at all, faces sharing one vertex meet anywhere else; faces sharing an edge are
 /// never reported (folds are a separate check). A separating-plane test with a margin far
 /// above rounding noise settles almost every pair before the exact predicates run; it only
-/// answers "apart" when MeshQuality's predicates would too.
-/// simpleFan(v) may return true for a vertex whose star is known to be a simple fan (see
-/// StarIsSimpleFan): faces sharing only that vertex then cannot overlap.
-template <class VertexPointer, class SimpleFan>
+/// answers "apart" when MeshQuality's predicates would too. (Faces sharing one vertex whose
+/// star is a simple fan never meet, see StarIsSimpleFan: the batch sweep skips them.)
+template <class VertexPointer>
 bool FacesIntersect(const std::array<Point, 3>& a, const Point& na, const std::array<VertexPointer, 3>& va,
                     const std::array<Point, 3>& b, const Point& nb, const std::array<VertexPointer, 3>& vb,
-                    double margin, SimpleFan&& simpleFan) {
+                    double margin) {
   int shared = 0, ca = -1, cb = -1;
   for (int x = 0; x < 3; ++x)
     for (int y = 0; y < 3; ++y)
@@ -147,18 +146,9 @@ bool FacesIntersect(const std::array<Point, 3>& a, const Point& na, const std::a
     return quality_detail::TrianglesIntersect(quality_detail::MakePlanarTriangle(a[0], a[1], a[2]),
                                               quality_detail::MakePlanarTriangle(b[0], b[1], b[2]));
   }
-  // The plane test first: it is cheaper than simpleFan.
   if (SeparatedByPlane(na, a[ca], b, cb, margin) || SeparatedByPlane(nb, b[cb], a, ca, margin)) return false;
-  if (simpleFan(va[ca])) return false;
   return quality_detail::SharedCornerOverlap(quality_detail::MakePlanarTriangle(a[0], a[1], a[2]), ca,
                                              quality_detail::MakePlanarTriangle(b[0], b[1], b[2]), cb);
-}
-
-template <class VertexPointer>
-bool FacesIntersect(const std::array<Point, 3>& a, const Point& na, const std::array<VertexPointer, 3>& va,
-                    const std::array<Point, 3>& b, const Point& nb, const std::array<VertexPointer, 3>& vb,
-                    double margin) {
-  return FacesIntersect(a, na, va, b, nb, vb, margin, [](const VertexPointer&) { return false; });
 }
 
 /// Whether the star of a vertex at `center`, given as its link edges (a_i, b_i) in the faces'
