@@ -165,14 +165,25 @@ inline bool StarIsSimpleFan(const Point& center, const std::pair<Point, Point>* 
   const double len = d.Norm();
   if (!(len > 0)) return false;
   d /= len;
-  double turn = 0;
+  // Every wedge positively oriented. Around an interior vertex the link is a closed cycle, so
+  // the wedge angles then sum to 2 pi k (k turns); k = 1 is certain when an upper bound of the
+  // sum, pi sqrt((1 - cos)/2) >= the angle per wedge, stays below 4 pi, which spares the atan2
+  // of every wedge in all but the strangest stars.
+  double halfTurnsBound = 0;
   for (int i = 0; i < count; ++i) {
     const Point u = link[i].first - center, v = link[i].second - center;
     // Components orthogonal to d.
     const Point pu = u - d * (u * d), pv = v - d * (v * d);
-    const double cross = (pu ^ pv) * d, dot = pu * pv;
-    if (!(cross > 1e-6 * pu.Norm() * pv.Norm())) return false; // positively oriented, not flat
-    turn += std::atan2(cross, dot);
+    const double cross = (pu ^ pv) * d, norms = pu.Norm() * pv.Norm();
+    if (!(cross > 1e-6 * norms)) return false; // positively oriented, not flat
+    halfTurnsBound += std::sqrt(std::max(0.0, 0.5 * (1.0 - (pu * pv) / norms)));
+  }
+  if (!boundary && halfTurnsBound < 4.0) return true;
+  double turn = 0;
+  for (int i = 0; i < count; ++i) {
+    const Point u = link[i].first - center, v = link[i].second - center;
+    const Point pu = u - d * (u * d), pv = v - d * (v * d);
+    turn += std::atan2((pu ^ pv) * d, pu * pv);
   }
   const double twoPi = 2.0 * 3.14159265358979323846;
   return boundary ? turn < twoPi - 1e-6 : std::fabs(turn - twoPi) < 1e-6;
