@@ -626,6 +626,13 @@ bool LocalRemeshingOps<MeshType>::PrepareTopology(MeshType& m, std::string* erro
       }
     }
   });
+  std::size_t nonManifoldEdges = 0, misoriented = 0, nonManifoldVertices = 0;
+  for (const auto& c : counts) {
+    nonManifoldEdges += c[0];
+    misoriented += c[1];
+  }
+  if (nonManifoldEdges > 0) return fail("the mesh has non-manifold edges; run the cleaning stage first");
+  if (misoriented > 0) return fail("the mesh is not consistently oriented; run the cleaning stage first");
   ParallelFor(m.vert.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
     for (std::size_t vi = begin; vi < end; ++vi) {
       VertexType& v = m.vert[vi];
@@ -662,14 +669,7 @@ bool LocalRemeshingOps<MeshType>::PrepareTopology(MeshType& m, std::string* erro
       if (inFan != inList) ++counts[std::size_t(t)][2];
     }
   });
-  std::size_t nonManifoldEdges = 0, misoriented = 0, nonManifoldVertices = 0;
-  for (const auto& c : counts) {
-    nonManifoldEdges += c[0];
-    misoriented += c[1];
-    nonManifoldVertices += c[2];
-  }
-  if (nonManifoldEdges > 0) return fail("the mesh has non-manifold edges; run the cleaning stage first");
-  if (misoriented > 0) return fail("the mesh is not consistently oriented; run the cleaning stage first");
+  for (const auto& c : counts) nonManifoldVertices += c[2];
   if (nonManifoldVertices > 0)
     return fail("the mesh has non-manifold vertices; run the cleaning stage first");
 
