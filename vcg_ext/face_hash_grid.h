@@ -6,8 +6,8 @@
 // Update cost O(cells touched), and only cells that ever held a face take memory (an
 // open-addressing table maps the cell coordinates to a cell slot).
 //
-// Boxes are stored in float, rounded outward, so a stored box always contains the true one:
-// queries may report a few more faces, never fewer. Each face remembers the cellSlots of its cells,
+// Boxes are stored as FloatBoxes (float, rounded outward), so a stored box always contains the
+// true one: queries may report a few more faces, never fewer. Each face remembers the cellSlots of its cells,
 // so QueryFace (the faces near a face already in the grid) needs no hashing at all.
 //
 // Modifications are not thread-safe; the const queries are, while nobody modifies the grid,
@@ -16,6 +16,7 @@
 
 #include <vcg/space/box3.h>
 
+#include <vcg_ext/float_box.h>
 #include <vcg_ext/parallel_for.h>
 
 #include <algorithm>
@@ -64,10 +65,7 @@ public:
   }
   bool Contains(std::size_t f) const { return f < faces_.size() && faces_[f].in; }
   /// The stored (outward rounded) box of face f.
-  Box BoxOf(std::size_t f) const {
-    const FaceEntry& e = faces_[f];
-    return Box(vcg::Point3d(e.lo[0], e.lo[1], e.lo[2]), vcg::Point3d(e.hi[0], e.hi[1], e.hi[2]));
-  }
+  Box BoxOf(std::size_t f) const { return faces_[f].box.ToBox(); }
 
   void Insert(std::size_t f, const Box& box) {
     Resize(f + 1);
@@ -237,9 +235,7 @@ public:
         if (std::max(e.range[0], o.range[0]) != c[0] || std::max(e.range[1], o.range[1]) != c[1] ||
             std::max(e.range[2], o.range[2]) != c[2])
           continue;
-        if (e.lo[0] <= o.hi[0] && o.lo[0] <= e.hi[0] && e.lo[1] <= o.hi[1] && o.lo[1] <= e.hi[1] &&
-            e.lo[2] <= o.hi[2] && o.lo[2] <= e.hi[2])
-          visit(std::size_t(g));
+        if (e.box.Touches(o.box)) visit(std::size_t(g));
       }
     }
   }
@@ -256,27 +252,15 @@ private:
   static constexpr std::uint8_t kNoSlots = 0xff;
 
   struct FaceEntry {
-    std::array<float, 3> lo{}, hi{}; ///< box, rounded outward
+    FloatBox box;                    ///< rounded outward
     std::array<int, 6> range{};      ///< cell range: lo x y z, hi x y z
     std::array<std::uint32_t, kInlineSlots> cellSlots{};
     std::uint8_t slotCount = 0;      ///< kNoSlots when the range has more cells than kInlineSlots
     bool in = false;
   };
 
-  static void SetBox(FaceEntry& e, const Box& b) {
-    for (int k = 0; k < 3; ++k) {
-      float lo = float(b.min[k]), hi = float(b.max[k]);
-      if (double(lo) > b.min[k]) lo = std::nextafter(lo, -std::numeric_limits<float>::infinity());
-      if (double(hi) < b.max[k]) hi = std::nextafter(hi, std::numeric_limits<float>::infinity());
-      e.lo[k] = lo;
-      e.hi[k] = hi;
-    }
-  }
-  static bool Touch(const FaceEntry& e, const Box& b) {
-    for (int k = 0; k < 3; ++k)
-      if (double(e.lo[k]) > b.max[k] || b.min[k] > double(e.hi[k])) return false;
-    return true;
-  }
+  static void SetBox(FaceEntry& e, const Box& b) { e.box = FloatBox::Outward(b); }
+  static bool Touch(const FaceEntry& e, const Box& b) { return e.box.Touches(b); }
   int CellCoord(double x, int axis) const {
     const double c = std::floor((x - origin_[axis]) * inv_);
     return int(std::clamp(c, double(-kBias), double(kBias - 1)));

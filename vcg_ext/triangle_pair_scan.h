@@ -14,6 +14,7 @@
 #include <vcg/space/box3.h>
 #include <vcg/space/point3.h>
 
+#include <vcg_ext/float_box.h>
 #include <vcg_ext/parallel_for.h>
 
 #include <algorithm>
@@ -91,12 +92,6 @@ private:
   std::vector<std::uint64_t> keys_;
   std::vector<std::uint32_t> order_, tmp_;
   std::vector<Triangle> sorted_;
-  /// A bounding box in single precision, rounded outward: touching double boxes always touch
-  /// as FloatBoxes (pairs touching only after rounding go to the exact test, which rejects
-  /// them), and twice as many fit in a cache line.
-  struct FloatBox {
-    std::array<float, 3> lo, hi;
-  };
   std::vector<FloatBox> sortedBox_;
   std::vector<std::uint8_t> sortedMoved_;
   std::vector<std::array<std::uint32_t, 3>> sortedIds_;
@@ -185,12 +180,7 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
     for (std::size_t k = begin; k < end; ++k) {
       const std::uint32_t i = order_[k];
       sorted_[k] = input_[i];
-      for (int a = 0; a < 3; ++a) {
-        sortedBox_[k].lo[a] =
-            std::nextafter(float(inputBox_[i].min[a]), -std::numeric_limits<float>::infinity());
-        sortedBox_[k].hi[a] =
-            std::nextafter(float(inputBox_[i].max[a]), std::numeric_limits<float>::infinity());
-      }
+      sortedBox_[k] = FloatBox::Outward(inputBox_[i]);
       sortedMoved_[k] = input_[i].moved ? 1 : 0;
       sortedIds_[k] = input_[i].v;
       for (int a = 0; a < 3; ++a) cellOf_[k][a] = std::uint32_t((inputBox_[i].min[a] - all.min[a]) * inv);
@@ -230,15 +220,11 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx)
         if (dz > 0 || (dz == 0 && (dy > 0 || (dy == 0 && dx > 0)))) offsets[count++] = {dx, dy, dz};
-  auto touch = [](const FloatBox& a, const FloatBox& b) {
-    return a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
-           a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2];
-  };
   ParallelFor(cells_.size(), nThreads, [&](std::size_t begin, std::size_t end, int t) {
     auto& pairs = threadPairs_[t];
     auto test = [&](std::uint32_t a, std::uint32_t b) {
       if ((sortedMoved_[a] | sortedMoved_[b]) == 0) return;
-      if (!touch(sortedBox_[a], sortedBox_[b])) return;
+      if (!sortedBox_[a].Touches(sortedBox_[b])) return;
       if (skipSharedVertex) {
         const std::array<std::uint32_t, 3>&ia = sortedIds_[a], &ib = sortedIds_[b];
         for (const std::uint32_t x : ia)
