@@ -212,8 +212,8 @@ public:
                                          ///< corner of the closest face moved onto them (0 = off)
     double snapLooseTolerance = 0.3;     ///< input vertices farther than this x L0 may be snapped with snapLooseGuards
     double snapMaxMove = 1.0;            ///< such a move is at most this x L0 long
-    int snapRounds = 3;                  ///< rounds of snapping (each measures the distances anew); the
-                                         ///< partial moves get the rounds left, at least one
+    int snapRounds = 3;                  ///< rounds of snapping at most (each measures the distances anew;
+                                         ///< they stop when they stall), then one round of partial moves
     double snapPartialShare = 0.5;       ///< partial moves only toward input vertices at least this share
                                          ///< of the farthest one's distance away (> 1: none)
     LocalOpsGuards snapGuards = RarDefaultSnapGuards(); ///< guards of the snapping moves

@@ -365,7 +365,7 @@ public:
         const QualityReport& previous = result.stages.empty() ? result.input : result.stages.back().after;
         if (mayReuseReport &&
             (previous.selfIntersectionsComputed || !stageQuality.computeSelfIntersections) &&
-            before == GeometrySnapshot::Of(m)) {
+            before.Matches(m)) {
           record.after = previous;
           if (!stageQuality.computeSelfIntersections) { // as a measurement without them reports
             record.after.selfIntersectingPairs = record.after.adjacentOverlapPairs = 0;
@@ -389,23 +389,38 @@ private:
   /// Positions and faces (vertex indices) of the live elements, to tell whether a stage changed
   /// the mesh. Exact comparison, no hash: a report is reused only for the very same mesh.
   struct GeometrySnapshot {
-    /// Stands for a deleted vertex (a live one is finite: the pipeline refuses other input).
-    static constexpr double kDeleted = std::numeric_limits<double>::infinity();
     std::vector<vcg::Point3d> positions;
     std::vector<std::size_t> faces;
     static GeometrySnapshot Of(const MeshType& m) {
       GeometrySnapshot g;
       g.positions.reserve(m.vert.size());
-      for (const auto& v : m.vert)
-        g.positions.push_back(v.IsD() ? vcg::Point3d(kDeleted, kDeleted, kDeleted)
-                                      : vcg::Point3d::Construct(v.cP()));
+      for (const auto& v : m.vert) g.positions.push_back(Position(v));
       g.faces.reserve(3 * m.face.size());
       for (const auto& f : m.face)
-        for (int k = 0; k < 3; ++k)
-          g.faces.push_back(f.IsD() ? ~std::size_t(0) : std::size_t(vcg::tri::Index(m, f.cV(k))));
+        for (int k = 0; k < 3; ++k) g.faces.push_back(Corner(m, f, k));
       return g;
     }
-    bool operator==(const GeometrySnapshot& o) const { return positions == o.positions && faces == o.faces; }
+    /// Whether m is still the mesh the snapshot was taken of (stops at the first difference).
+    bool Matches(const MeshType& m) const {
+      if (positions.size() != m.vert.size() || faces.size() != 3 * m.face.size()) return false;
+      for (std::size_t i = 0; i < m.vert.size(); ++i)
+        if (positions[i] != Position(m.vert[i])) return false;
+      for (std::size_t i = 0; i < m.face.size(); ++i)
+        for (int k = 0; k < 3; ++k)
+          if (faces[3 * i + k] != Corner(m, m.face[i], k)) return false;
+      return true;
+    }
+
+  private:
+    /// A deleted vertex is marked by an infinite position (a live one is finite: the pipeline
+    /// refuses other input), a deleted face by an impossible vertex index.
+    static vcg::Point3d Position(const typename MeshType::VertexType& v) {
+      constexpr double kDeleted = std::numeric_limits<double>::infinity();
+      return v.IsD() ? vcg::Point3d(kDeleted, kDeleted, kDeleted) : vcg::Point3d::Construct(v.cP());
+    }
+    static std::size_t Corner(const MeshType& m, const typename MeshType::FaceType& f, int k) {
+      return f.IsD() ? ~std::size_t(0) : std::size_t(vcg::tri::Index(m, f.cV(k)));
+    }
   };
 
   template <class T>
