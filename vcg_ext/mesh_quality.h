@@ -119,6 +119,17 @@ struct QualityReport {
   bool isTwoManifold() const { return nonManifoldEdges == 0 && nonManifoldVertices == 0; }
 };
 
+/// What MeshQuality reads of a mesh, copied in one pass: the figures can then be computed from it
+/// later, or on another thread, while the mesh itself goes on changing.
+struct QualityCapture {
+  std::size_t vertexCount = 0;                     ///< size of m.vert
+  std::vector<std::array<std::uint32_t, 3>> faces; ///< live faces, in m.face order; an invalid
+                                                   ///< vertex reference is UINT32_MAX
+  std::vector<bool> proper;                        ///< per face: three distinct valid vertex indices
+  std::vector<vcg::Point3d> points;                ///< per vertex (deleted ones too), in double
+  std::vector<bool> live;                          ///< per vertex: not deleted
+};
+
 template <class MeshType>
 class MeshQuality {
 public:
@@ -132,7 +143,13 @@ public:
   };
 
   /// Measures m. m is not modified; deleted elements are skipped.
-  static QualityReport Compute(const MeshType& m, const Params& params = Params());
+  static QualityReport Compute(const MeshType& m, const Params& params = Params()) {
+    return Compute(Capture(m), params);
+  }
+  /// What Compute reads of m (a linear copy), and the figures of such a copy: Compute(Capture(m))
+  /// is Compute(m), to the last bit.
+  static QualityCapture Capture(const MeshType& m);
+  static QualityReport Compute(QualityCapture capture, const Params& params);
 
   /// Angles of face f (double precision). Without the mesh there is no mean edge length, so a
   /// face is degenerate here when its area is <= Params().degenerateAreaEpsilon * (longest edge)^2.
@@ -464,13 +481,12 @@ inline void BuildTopology(Topology& t, int threads) {
   }
 }
 
-/// Reads the live faces of m into t and builds the topology on `threads` threads.
+/// The live faces of m as vertex indices (kNoIndex for an invalid reference), and whether each is
+/// proper.
 template <class MeshType>
-Topology ReadTopology(const MeshType& m, int threads) {
-  Topology t;
-  t.vertexCount = m.vert.size();
-  t.faces.reserve(m.face.size());
-  t.proper.reserve(m.face.size());
+void ReadFaces(const MeshType& m, std::vector<std::array<Index, 3>>& faces, std::vector<bool>& proper) {
+  faces.reserve(m.face.size());
+  proper.reserve(m.face.size());
   const auto* vertBegin = m.vert.empty() ? nullptr : &m.vert[0];
   for (const auto& f : m.face) {
     if (f.IsD()) continue;
@@ -482,9 +498,17 @@ Topology ReadTopology(const MeshType& m, int threads) {
       if (k >= 0 && std::size_t(k) < m.vert.size()) idx[i] = Index(k);
     }
     const bool valid = idx[0] != kNoIndex && idx[1] != kNoIndex && idx[2] != kNoIndex;
-    t.faces.push_back(idx);
-    t.proper.push_back(valid && idx[0] != idx[1] && idx[1] != idx[2] && idx[2] != idx[0]);
+    faces.push_back(idx);
+    proper.push_back(valid && idx[0] != idx[1] && idx[1] != idx[2] && idx[2] != idx[0]);
   }
+}
+
+/// Reads the live faces of m into t and builds the topology on `threads` threads.
+template <class MeshType>
+Topology ReadTopology(const MeshType& m, int threads) {
+  Topology t;
+  t.vertexCount = m.vert.size();
+  ReadFaces(m, t.faces, t.proper);
   BuildTopology(t, threads);
   return t;
 }
@@ -736,21 +760,38 @@ std::vector<bool> MeshQuality<MeshType>::VertexOnBorder(const MeshType& m) {
 }
 
 template <class MeshType>
-QualityReport MeshQuality<MeshType>::Compute(const MeshType& m, const Params& params) {
+QualityCapture MeshQuality<MeshType>::Capture(const MeshType& m) {
+  QualityCapture c;
+  c.vertexCount = m.vert.size();
+  quality_detail::ReadFaces(m, c.faces, c.proper);
+  c.points.resize(c.vertexCount);
+  c.live.resize(c.vertexCount);
+  for (std::size_t v = 0; v < c.vertexCount; ++v) {
+    const auto& p = m.vert[v].cP();
+    c.points[v] = vcg::Point3d(double(p[0]), double(p[1]), double(p[2]));
+    c.live[v] = !m.vert[v].IsD();
+  }
+  return c;
+}
+
+template <class MeshType>
+QualityReport MeshQuality<MeshType>::Compute(QualityCapture capture, const Params& params) {
   using namespace quality_detail;
   QualityReport r;
-  const Topology t = ReadTopology(m, params.threads);
-  const std::size_t nv = m.vert.size();
+  Topology t;
+  t.vertexCount = capture.vertexCount;
+  t.faces = std::move(capture.faces);
+  t.proper = std::move(capture.proper);
+  BuildTopology(t, params.threads);
+  const std::size_t nv = t.vertexCount;
   const std::size_t nf = t.faces.size();
   const std::size_t ne = t.edgeKeys.size();
 
   // --- Vertices --------------------------------------------------------------------------------
-  std::vector<Point> points(nv);
-  std::vector<bool> live(nv, false), finite(nv, false), referenced(nv, false);
+  const std::vector<Point> points = std::move(capture.points);
+  const std::vector<bool> live = std::move(capture.live);
+  std::vector<bool> finite(nv, false), referenced(nv, false);
   for (std::size_t v = 0; v < nv; ++v) {
-    const auto& c = m.vert[v].cP();
-    points[v] = Point(double(c[0]), double(c[1]), double(c[2]));
-    live[v] = !m.vert[v].IsD();
     finite[v] = IsFinite(points[v]);
     if (live[v]) {
       ++r.vertices;

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <future>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -196,7 +197,19 @@ public:
     }
     typename MeshQuality<MeshType>::Params qualityParams;
     qualityParams.threads = params.threads;
-    result.input = MeshQuality<MeshType>::Compute(m, qualityParams);
+    // The reports are measured on a copy of the mesh (QualityCapture), each on a thread of its own
+    // and one core, while the next stage runs: the stages are serial for long stretches, so a
+    // report mostly takes the idle core instead of adding its time. The figures do not depend on
+    // the thread count. A report is waited for where it is read: the target edge length (taken
+    // from the last report) and the end. The last stage's report has nothing to overlap and runs
+    // on all threads.
+    PendingReport inputReport = MeasureLater(m, qualityParams);
+    std::vector<PendingReport> stageReports; // one per record in result.stages
+    auto resolveReports = [&]() {
+      if (inputReport.future.valid()) result.input = inputReport.Get();
+      for (std::size_t i = 0; i < stageReports.size() && i < result.stages.size(); ++i)
+        if (stageReports[i].future.valid()) result.stages[i].after = stageReports[i].Get();
+    };
 
     MeshType backup;
     vcg::tri::Append<MeshType, MeshType>::MeshCopy(backup, m);
@@ -206,6 +219,7 @@ public:
       result.stages.push_back(record);
       result.ok = false;
       result.message = std::string("stage '") + record.name + "' failed: " + why + " (the mesh is unchanged)";
+      resolveReports();
       vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, backup);
       UpdateAdjacency(m);
       say(result.message);
@@ -228,6 +242,7 @@ public:
       }
       // The last report already measured m as it is now (the input, or the previous stage's
       // output): no second pass over the mesh.
+      resolveReports();
       if (result.stages.empty())
         result.targetEdgeLength = result.input.meanEdgeLength;
       else if (params.measureEachStage)
@@ -359,26 +374,28 @@ public:
       }
       vcg::tri::Allocator<MeshType>::CompactEveryVector(m);
       record.seconds = std::chrono::duration<double>(Clock::now() - stageStart).count();
+      PendingReport report;
       if (params.measureEachStage) {
         typename MeshQuality<MeshType>::Params stageQuality = qualityParams;
-        stageQuality.computeSelfIntersections = params.intersectionsEachStage || s + 1 == stageCount;
-        const QualityReport& previous = result.stages.empty() ? result.input : result.stages.back().after;
-        if (mayReuseReport &&
-            (previous.selfIntersectionsComputed || !stageQuality.computeSelfIntersections) &&
+        const bool last = s + 1 == stageCount;
+        stageQuality.computeSelfIntersections = params.intersectionsEachStage || last;
+        const PendingReport& previous = result.stages.empty() ? inputReport : stageReports.back();
+        if (mayReuseReport && (previous.intersections || !stageQuality.computeSelfIntersections) &&
             before.Matches(m)) {
-          record.after = previous;
-          if (!stageQuality.computeSelfIntersections) { // as a measurement without them reports
-            record.after.selfIntersectingPairs = record.after.adjacentOverlapPairs = 0;
-            record.after.selfIntersectingFaces = 0;
-            record.after.selfIntersectionsComputed = false;
-          }
+          report = previous;
+          report.intersections = stageQuality.computeSelfIntersections;
+        } else if (last || (result.targetEdgeLength <= 0 && params.targetEdgeLength <= 0)) {
+          // Read right away (the next stage takes its target edge length from it), or the end.
+          report = MeasureLater(m, stageQuality, /*now=*/true);
         } else {
-          record.after = MeshQuality<MeshType>::Compute(m, stageQuality);
+          report = MeasureLater(m, stageQuality);
         }
       }
       say(std::string("stage ") + record.name + " done in " + std::to_string(record.seconds) + " s");
       result.stages.push_back(record);
+      stageReports.push_back(report);
     }
+    resolveReports();
     UpdateAdjacency(m);
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (cb) cb(100, "done");
@@ -386,6 +403,41 @@ public:
   }
 
 private:
+  /// A quality report being measured (or measured) on its own thread.
+  struct PendingReport {
+    std::shared_future<QualityReport> future;
+    bool intersections = false; ///< whether Get() reports self-intersections (the measurement may
+                                ///< have them when a stage without them reuses its report)
+    QualityReport Get() const {
+      QualityReport r = future.get();
+      if (!intersections && r.selfIntersectionsComputed) { // as a measurement without them reports
+        r.selfIntersectingPairs = r.adjacentOverlapPairs = 0;
+        r.selfIntersectingFaces = 0;
+        r.selfIntersectionsComputed = false;
+      }
+      return r;
+    }
+  };
+  /// Captures m now and measures the capture on a thread of its own with one core, or right here
+  /// on params.threads when `now`.
+  static PendingReport MeasureLater(const MeshType& m, typename MeshQuality<MeshType>::Params params,
+                                    bool now = false) {
+    PendingReport pending;
+    pending.intersections = params.computeSelfIntersections;
+    auto capture = std::make_shared<QualityCapture>(MeshQuality<MeshType>::Capture(m));
+    if (now) {
+      std::promise<QualityReport> done;
+      done.set_value(MeshQuality<MeshType>::Compute(std::move(*capture), params));
+      pending.future = done.get_future().share();
+      return pending;
+    }
+    params.threads = 1;
+    pending.future = std::async(std::launch::async, [capture, params]() {
+                       return MeshQuality<MeshType>::Compute(std::move(*capture), params);
+                     }).share();
+    return pending;
+  }
+
   /// Positions and faces (vertex indices) of the live elements, to tell whether a stage changed
   /// the mesh. Exact comparison, no hash: a report is reused only for the very same mesh.
   struct GeometrySnapshot {
