@@ -603,7 +603,7 @@ bool LocalRemeshingOps<MeshType>::PrepareTopology(MeshType& m, std::string* erro
         f.cV(1) == f.cV(2) || f.cV(2) == f.cV(0))
       return fail("the mesh has faces with a repeated or missing vertex; clean it first");
   }
-  UpdateAdjacency(m);
+  UpdateAdjacency(m, threads);
 
   // 2-manifold and consistently oriented: every edge has one or two faces, two faces traverse
   // it in opposite directions, and the faces at each vertex form a single fan. Read-only, so

@@ -353,7 +353,7 @@ void ReferenceSurface<MeshType>::BuildAdjacency(const std::vector<std::array<std
   ForEachEdgeSideGroup(
       vertexCount, tris.size(), [&](std::size_t f, int k) { return tris[f][k]; },
       [](std::size_t) { return true; },
-      [&](auto first, auto last) {
+      [&](auto first, auto last, int) { // serial: pairs grows in group order
         if (last - first != 2)
           for (auto a = first; a != last; ++a) onOddEdge[a->face] = 1;
         for (auto a = first; a != last; ++a)
