@@ -151,6 +151,9 @@ struct CleanRawMeshResult {
   std::size_t boundaryEdgesAfter = 0, nonManifoldEdgesAfter = 0, nonManifoldVerticesAfter = 0;
   std::size_t degenerateFacesAfter = 0, componentsAfter = 0;
   int genusAfter = -1;
+  /// The whole report of the result the figures above come from (MeshQuality with the cleaning's
+  /// degenerateAreaEpsilon and thread count; self-intersections when measureSelfIntersections).
+  QualityReport reportAfter;
 
   /// One line per figure, "name: value", for logs.
   std::string Summary() const {
@@ -524,6 +527,7 @@ private:
     r.degenerateFacesAfter = after.degenerateFaces;
     r.componentsAfter = after.components;
     r.genusAfter = after.genus;
+    r.reportAfter = after;
     Progress(cb, 100, "Clean raw mesh done");
   }
 

@@ -18,6 +18,7 @@
 #include <future>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -260,6 +261,7 @@ public:
       say(std::string("stage ") + record.name + " ...");
       if (cb) cb(int(100 * s / std::max<std::size_t>(1, stageCount)), record.name.c_str());
       const auto stageStart = Clock::now();
+      std::optional<QualityReport> cleanReport; // the cleaning's own report of its result
       // A stage that leaves the mesh as it found it (segmentation always, a local stage with
       // nothing to fix) reuses the previous report instead of measuring the same mesh again.
       const bool mayReuseReport = params.measureEachStage && !result.stages.empty();
@@ -295,6 +297,11 @@ public:
         const auto r = CleanRawMesh<MeshType>::Do(m, cleanParams);
         if (!r.ok) return fail(record, r.message);
         record.summary = r.Summary();
+        // The cleaning measured its result already: that report is the stage's when it was taken
+        // the way the stage report would be.
+        if (cleanParams.degenerateAreaEpsilon == qualityParams.degenerateAreaEpsilon &&
+            cleanParams.measureSelfIntersections == (params.intersectionsEachStage || s + 1 == stageCount))
+          cleanReport = r.reportAfter;
         break;
       }
       case PipelineStage::Cvt: {
@@ -384,6 +391,8 @@ public:
             before.Matches(m)) {
           report = previous;
           report.intersections = stageQuality.computeSelfIntersections;
+        } else if (cleanReport) {
+          report = Ready(std::move(*cleanReport), stageQuality.computeSelfIntersections);
         } else if (last || (result.targetEdgeLength <= 0 && params.targetEdgeLength <= 0)) {
           // Read right away (the next stage takes its target edge length from it), or the end.
           report = MeasureLater(m, stageQuality, /*now=*/true);
@@ -418,19 +427,23 @@ private:
       return r;
     }
   };
+  /// A report measured already.
+  static PendingReport Ready(QualityReport report, bool intersections) {
+    std::promise<QualityReport> done;
+    done.set_value(std::move(report));
+    PendingReport pending;
+    pending.future = done.get_future().share();
+    pending.intersections = intersections;
+    return pending;
+  }
   /// Captures m now and measures the capture on a thread of its own with one core, or right here
   /// on params.threads when `now`.
   static PendingReport MeasureLater(const MeshType& m, typename MeshQuality<MeshType>::Params params,
                                     bool now = false) {
+    if (now) return Ready(MeshQuality<MeshType>::Compute(m, params), params.computeSelfIntersections);
     PendingReport pending;
     pending.intersections = params.computeSelfIntersections;
     auto capture = std::make_shared<QualityCapture>(MeshQuality<MeshType>::Capture(m));
-    if (now) {
-      std::promise<QualityReport> done;
-      done.set_value(MeshQuality<MeshType>::Compute(std::move(*capture), params));
-      pending.future = done.get_future().share();
-      return pending;
-    }
     params.threads = 1;
     pending.future = std::async(std::launch::async, [capture, params]() {
                        return MeshQuality<MeshType>::Compute(std::move(*capture), params);
