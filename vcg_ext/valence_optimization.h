@@ -40,6 +40,7 @@
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
 #include <vcg_ext/mesh_quality.h>
+#include <vcg_ext/parallel_for.h>
 #include <vcg_ext/reference_surface.h>
 
 #include <algorithm>
@@ -585,26 +586,40 @@ ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const
     return result;
   }
   result.initSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The scans below read the mesh only: they run on every thread, each counting (or flagging)
+  // into its own slots, so their results do not depend on the thread count.
+  const int threads = ResolveThreadCount(params.threads);
   auto countBad = [&](std::size_t& small, std::size_t& large) {
+    std::vector<std::array<std::size_t, 2>> counts(std::size_t(threads), {0, 0});
+    ParallelFor(m.face.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+      for (std::size_t fi = begin; fi < end; ++fi) {
+        const FaceType& f = m.face[fi];
+        if (f.IsD()) continue;
+        double lo, hi;
+        AngleRange(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), lo, hi);
+        // Same tolerance as the guard's cosine comparison: an angle of exactly the bound is fine.
+        counts[std::size_t(t)][0] += lo < params.minAngleDeg - 1e-9;
+        counts[std::size_t(t)][1] += hi > params.maxAngleDeg + 1e-9;
+      }
+    });
     small = large = 0;
-    for (const auto& f : m.face) {
-      if (f.IsD()) continue;
-      double lo, hi;
-      AngleRange(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), lo, hi);
-      // Same tolerance as the guard's cosine comparison: an angle of exactly the bound is fine.
-      small += lo < params.minAngleDeg - 1e-9;
-      large += hi > params.maxAngleDeg + 1e-9;
-    }
+    for (const auto& c : counts) small += c[0], large += c[1];
   };
   result.before = Census(m);
   countBad(result.smallAnglesBefore, result.largeAnglesBefore);
 
   Session session(m, ops, params, result);
   std::vector<std::size_t> irregular;
+  std::vector<std::uint8_t> isIrregular;
   auto collectIrregular = [&]() {
+    isIrregular.assign(m.vert.size(), 0);
+    ParallelFor(m.vert.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t i = begin; i < end; ++i)
+        isIrregular[i] = !m.vert[i].IsD() && session.Irregular(m.vert[i]) ? 1 : 0;
+    });
     irregular.clear();
     for (std::size_t i = 0; i < m.vert.size(); ++i)
-      if (!m.vert[i].IsD() && session.Irregular(m.vert[i])) irregular.push_back(i);
+      if (isIrregular[i]) irregular.push_back(i);
   };
   for (int round = 0; round < params.rounds; ++round) {
     bool changed = false;
