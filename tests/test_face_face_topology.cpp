@@ -1,6 +1,6 @@
 // UpdateFaceFaceTopology against vcglib's UpdateTopology::FaceFace: the same adjacency on manifold
 // meshes (real ones included), borders pointing at themselves, a non-manifold edge as one ring
-// through all its faces, deleted faces skipped.
+// through all its faces, deleted faces skipped, whatever the thread count.
 #include <gtest/gtest.h>
 
 #include <vcg_ext/face_face_topology.h>
@@ -103,4 +103,21 @@ TEST(FaceFaceTopology, DeletedFacesAreSkipped) {
   molremesh::UpdateFaceFaceTopology(m);
   EXPECT_EQ(m.face[0].FFp(1), &m.face[0]); // its neighbour is gone: now a border side
   EXPECT_EQ(m.face[0].FFi(1), 1);
+}
+
+TEST(FaceFaceTopology, AnyThreadCountGivesTheSameAdjacencyOnALargeMesh) {
+  // 81920 faces: enough for the passes to be split among threads. Deleting every seventh face
+  // leaves border sides and faces the passes must skip.
+  MeshD m;
+  molremesh::test::Icosphere(m, 6);
+  ASSERT_GT(m.face.size(), 65536u);
+  for (std::size_t f = 0; f < m.face.size(); f += 7) vcg::tri::Allocator<MeshD>::DeleteFace(m, m.face[f]);
+  vcg::tri::UpdateTopology<MeshD>::FaceFace(m);
+  const auto expected = Links(m);
+  for (const int threads : {1, 2, 3, 4}) {
+    for (auto& f : m.face)
+      for (int z = 0; z < 3; ++z) f.FFp(z) = nullptr;
+    EXPECT_EQ(molremesh::UpdateFaceFaceTopology(m, threads), 0u) << threads << " threads";
+    EXPECT_EQ(Links(m), expected) << threads << " threads";
+  }
 }
