@@ -506,7 +506,11 @@ private:
     }
     return false;
   }
-  FaceVerdict VerifyBatchFace(std::size_t fi, FaceHashGrid::QueryMarks& marks, bool intersections) const;
+  /// The guards on face fi of a batch (see VerifyPendingMoves); intersections through the grid
+  /// when `intersections`. `scan`, when given, is built over the current faces: their unit normals
+  /// and moved flags are read from it instead of being computed again.
+  FaceVerdict VerifyBatchFace(std::size_t fi, FaceHashGrid::QueryMarks& marks, bool intersections,
+                              const TrianglePairScan* scan = nullptr) const;
   TrianglePairScan scan_;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> scanPairs_;
   std::vector<int> batchIndex_; ///< per vertex: entry in batch_, or -1
@@ -1198,7 +1202,7 @@ bool LocalRemeshingOps<MeshType>::NewFacesIntersect() {
 template <class MeshType>
 typename LocalRemeshingOps<MeshType>::FaceVerdict
 LocalRemeshingOps<MeshType>::VerifyBatchFace(std::size_t fi, FaceHashGrid::QueryMarks& marks,
-                                             bool intersections) const {
+                                             bool intersections, const TrianglePairScan* scan) const {
   using local_ops_detail::UnitNormal;
   FaceVerdict verdict;
   const FaceType& f = m_.face[fi];
@@ -1212,8 +1216,8 @@ LocalRemeshingOps<MeshType>::VerifyBatchFace(std::size_t fi, FaceHashGrid::Query
     feet[k] = foot_[VIndex(*v[k])];
     oldFeet[k] = OldFoot(v[k]);
   }
-  const bool moved = MovedInBatch(f);
-  const Point n = UnitNormal(p);
+  const bool moved = scan ? scan->Input(fi).moved : MovedInBatch(f);
+  const Point n = scan ? scan->Input(fi).n : UnitNormal(p);
   auto fail = [&](int partner) {
     verdict.fail = true;
     verdict.partner = partner;
@@ -1243,10 +1247,16 @@ LocalRemeshingOps<MeshType>::VerifyBatchFace(std::size_t fi, FaceHashGrid::Query
     if (g == &f) continue;
     const std::size_t gi = FIndex(*g);
     if (faceStamp_[gi] == stamp_ && gi < fi) continue;
-    if (!moved && !MovedInBatch(*g)) continue;
-    std::array<Point, 3> q;
-    for (int k = 0; k < 3; ++k) q[k] = Pos(g->cV(k));
-    const double c = n * UnitNormal(q);
+    if (!moved && !(scan ? scan->Input(gi).moved : MovedInBatch(*g))) continue;
+    Point ng;
+    if (scan) {
+      ng = scan->Input(gi).n;
+    } else {
+      std::array<Point, 3> q;
+      for (int k = 0; k < 3; ++k) q[k] = Pos(g->cV(k));
+      ng = UnitNormal(q);
+    }
+    const double c = n * ng;
     if (c >= cosFoldGuard_) continue;
     std::array<Point, 3> qo;
     for (int k = 0; k < 3; ++k) qo[k] = ToPoint(OldCoord(g->cV(k)));
@@ -1354,15 +1364,8 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
     // When most faces changed, one sweep over all of them finds the intersecting pairs faster
     // than a grid query per face.
     const bool sweep = guards_.checkIntersections && 4 * dirty_.size() > std::size_t(m_.fn);
-    verdicts_.assign(dirty_.size(), FaceVerdict());
-    ParallelFor(
-        dirty_.size(), nThreads,
-        [&](std::size_t begin, std::size_t end, int t) {
-          for (std::size_t i = begin; i < end; ++i)
-            verdicts_[i] = VerifyBatchFace(dirty_[i], marks_[t], !sweep);
-        },
-        256);
     scanPairs_.clear();
+    // The sweep's scan is built first: the per-face guards read its normals and moved flags.
     if (sweep) {
       scan_.Build(
           m_.face.size(),
@@ -1377,6 +1380,16 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
             }
           },
           nThreads);
+    }
+    verdicts_.assign(dirty_.size(), FaceVerdict());
+    ParallelFor(
+        dirty_.size(), nThreads,
+        [&](std::size_t begin, std::size_t end, int t) {
+          for (std::size_t i = begin; i < end; ++i)
+            verdicts_[i] = VerifyBatchFace(dirty_[i], marks_[t], !sweep, sweep ? &scan_ : nullptr);
+        },
+        256);
+    if (sweep) {
       // Pairs without a common vertex: the scan. Pairs sharing an edge are never reported, and
       // pairs sharing one vertex are settled star by star: none of them can meet when the star
       // is a simple fan, which nearly every star is.

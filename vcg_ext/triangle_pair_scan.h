@@ -46,6 +46,9 @@ public:
   template <class Fill>
   void Build(std::size_t n, Fill&& fill, int threads);
 
+  /// Triangle i as Build collected it, its unit normal included.
+  const Triangle& Input(std::size_t i) const { return input_[i]; }
+
   /// Pairs (i, j), i < j (indices as given to Build), that intersect and involve a moved triangle.
   /// intersect(a, b) decides a candidate pair (boxes touching) from two Triangles. With
   /// skipSharedVertex, pairs with a common vertex id are never tested (the caller settles them
