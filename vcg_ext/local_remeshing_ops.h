@@ -446,8 +446,10 @@ private:
   bool NewFacesIntersect();
   /// Appends to `pairs` the pairs (f, g), f < g, of faces that share exactly one vertex, involve a
   /// face moved in the batch and meet beyond that vertex (FacesIntersect), found star by star:
-  /// a star that is a simple fan (StarIsSimpleFan) has no such pair.
-  void StarPairs(int threads, std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) const;
+  /// a star that is a simple fan (StarIsSimpleFan) has no such pair. `scan` is the sweep's scan,
+  /// built over the current faces: their corners, normals and moved flags are read from it.
+  void StarPairs(const TrianglePairScan& scan, int threads,
+                 std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) const;
   /// The fidelity guard (LocalOpsGuards::maxInputDistanceFactor): true when the new faces leave
   /// an input point near the region farther from the mesh than allowed.
   bool NewFacesLeaveInput();
@@ -1103,11 +1105,12 @@ bool LocalRemeshingOps<MeshType>::NewFacesLeaveInput() {
 
 template <class MeshType>
 void LocalRemeshingOps<MeshType>::StarPairs(
-    int threads, std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) const {
+    const TrianglePairScan& scan, int threads,
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs) const {
   threads = ResolveThreadCount(threads);
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> found(static_cast<std::size_t>(threads));
   ParallelFor(m_.vert.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
-    std::vector<const FaceType*> star;
+    std::vector<std::uint32_t> star;
     std::vector<std::pair<Point, Point>> link;
     for (std::size_t vi = begin; vi < end; ++vi) {
       const VertexType& v = m_.vert[vi];
@@ -1117,34 +1120,23 @@ void LocalRemeshingOps<MeshType>::StarPairs(
       bool boundary = false, moved = false;
       for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&v)); !it.End(); ++it) {
         const int k = it.I();
-        star.push_back(it.F());
+        star.push_back(std::uint32_t(FIndex(*it.F())));
         link.emplace_back(Pos(it.F()->cV((k + 1) % 3)), Pos(it.F()->cV((k + 2) % 3)));
         if (IsBorder(*it.F(), k) || IsBorder(*it.F(), (k + 2) % 3)) boundary = true;
-        if (MovedInBatch(*it.F())) moved = true;
+        if (scan.Input(star.back()).moved) moved = true;
       }
       if (!moved) continue;
       if (local_ops_detail::StarIsSimpleFan(Pos(&v), link.data(), int(link.size()), boundary)) continue;
       for (std::size_t i = 0; i < star.size(); ++i)
         for (std::size_t j = i + 1; j < star.size(); ++j) {
-          const FaceType &f = *star[i], &g = *star[j];
-          if (!MovedInBatch(f) && !MovedInBatch(g)) continue;
-          std::array<Point, 3> a, b;
-          std::array<const VertexType*, 3> va, vb;
+          const TrianglePairScan::Triangle &a = scan.Input(star[i]), &b = scan.Input(star[j]);
+          if (!a.moved && !b.moved) continue;
           int shared = 0;
-          for (int k = 0; k < 3; ++k) {
-            va[k] = f.cV(k);
-            vb[k] = g.cV(k);
-            a[k] = Pos(va[k]);
-            b[k] = Pos(vb[k]);
-          }
           for (int x = 0; x < 3; ++x)
-            for (int y = 0; y < 3; ++y) shared += va[x] == vb[y] ? 1 : 0;
+            for (int y = 0; y < 3; ++y) shared += a.v[x] == b.v[y] ? 1 : 0;
           if (shared != 1) continue;
-          using local_ops_detail::UnitNormal;
-          if (!local_ops_detail::FacesIntersect(a, UnitNormal(a), va, b, UnitNormal(b), vb, margin_))
-            continue;
-          const std::uint32_t fi = std::uint32_t(FIndex(f)), gi = std::uint32_t(FIndex(g));
-          found[std::size_t(t)].emplace_back(std::min(fi, gi), std::max(fi, gi));
+          if (!local_ops_detail::FacesIntersect(a.p, a.n, a.v, b.p, b.n, b.v, margin_)) continue;
+          found[std::size_t(t)].emplace_back(std::min(star[i], star[j]), std::max(star[i], star[j]));
         }
     }
   });
@@ -1399,7 +1391,7 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
             return local_ops_detail::FacesIntersect(a.p, a.n, a.v, b.p, b.n, b.v, margin_);
           },
           scanPairs_, /*skipSharedVertex=*/true);
-      StarPairs(nThreads, scanPairs_);
+      StarPairs(scan_, nThreads, scanPairs_);
       std::sort(scanPairs_.begin(), scanPairs_.end());
       scanPairs_.erase(std::unique(scanPairs_.begin(), scanPairs_.end()), scanPairs_.end());
     }

@@ -395,7 +395,8 @@ public:
           report = Ready(std::move(*cleanReport), stageQuality.computeSelfIntersections);
         } else if (last || (result.targetEdgeLength <= 0 && params.targetEdgeLength <= 0)) {
           // Read right away (the next stage takes its target edge length from it), or the end.
-          report = MeasureLater(m, stageQuality, /*now=*/true);
+          report =
+              Ready(MeshQuality<MeshType>::Compute(m, stageQuality), stageQuality.computeSelfIntersections);
         } else {
           report = MeasureLater(m, stageQuality);
         }
@@ -436,11 +437,8 @@ private:
     pending.intersections = intersections;
     return pending;
   }
-  /// Captures m now and measures the capture on a thread of its own with one core, or right here
-  /// on params.threads when `now`.
-  static PendingReport MeasureLater(const MeshType& m, typename MeshQuality<MeshType>::Params params,
-                                    bool now = false) {
-    if (now) return Ready(MeshQuality<MeshType>::Compute(m, params), params.computeSelfIntersections);
+  /// Captures m now and measures the capture on a thread of its own with one core.
+  static PendingReport MeasureLater(const MeshType& m, typename MeshQuality<MeshType>::Params params) {
     PendingReport pending;
     pending.intersections = params.computeSelfIntersections;
     auto capture = std::make_shared<QualityCapture>(MeshQuality<MeshType>::Capture(m));
