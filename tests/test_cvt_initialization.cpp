@@ -132,6 +132,25 @@ TEST(CvtInitialization, CornerPiecesPartitionTheTriangle) {
   EXPECT_GT(obtuse, 100); // both the quad fast path and the clipping were exercised
 }
 
+TEST(CvtInitialization, FacePiecesAgreeWithCornerPieces) {
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1, 1);
+  for (int trial = 0; trial < 2000; ++trial) {
+    const std::array<Point, 3> p{Point(u(rng), u(rng), u(rng)), Point(u(rng), u(rng), u(rng)),
+                                 Point(u(rng), u(rng), u(rng))};
+    std::array<double, 3> area;
+    std::array<Point, 3> weighted;
+    Cvt::FacePieces(p, area, weighted);
+    for (int k = 0; k < 3; ++k) {
+      double a;
+      Point w;
+      Cvt::CornerPiece(p[k], p[(k + 1) % 3], p[(k + 2) % 3], a, w);
+      EXPECT_NEAR(area[k], a, 1e-12);
+      EXPECT_NEAR((weighted[k] - w).Norm(), 0.0, 1e-12);
+    }
+  }
+}
+
 TEST(CvtInitialization, CellPieceOfAnEquilateralCornerIsAThird) {
   const Point a(0, 0, 0), b(1, 0, 0), c(0.5, std::sqrt(3.0) / 2, 0);
   double area;

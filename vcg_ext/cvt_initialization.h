@@ -139,6 +139,11 @@ public:
   /// than to p1 and p2: the triangle clipped by the two perpendicular bisectors through p0.
   static void CornerPiece(const Point& p0, const Point& p1, const Point& p2, double& area, Point& weighted);
 
+  /// CornerPiece of all three corners of triangle p at once (corner k is p[k]): a non-obtuse
+  /// triangle's circumcentre and the three sub-triangle areas are computed once and shared.
+  static void FacePieces(const std::array<Point, 3>& p, std::array<double, 3>& area,
+                         std::array<Point, 3>& weighted);
+
 private:
   struct EdgeCandidate {
     double length2;
@@ -237,6 +242,31 @@ void CvtInitialization<MeshType>::CornerPiece(const Point& p0, const Point& p1, 
     area += twice;
     weighted += (poly[0] + poly[i] + poly[i + 1]) * (twice / 3.0);
   }
+}
+
+template <class MeshType>
+void CvtInitialization<MeshType>::FacePieces(const std::array<Point, 3>& p, std::array<double, 3>& area,
+                                             std::array<Point, 3>& weighted) {
+  const Point e01 = p[1] - p[0], e02 = p[2] - p[0], e12 = p[2] - p[1];
+  const Point n = e01 ^ e02;
+  const double n2 = n.SquaredNorm();
+  if (e01 * e02 >= 0 && e01 * e12 <= 0 && e02 * e12 >= 0 && n2 > 0) {
+    // The circumcentre c splits the triangle into six right triangles, mirror images in pairs
+    // across each side's perpendicular bisector: (p_k, m_k,k+1, c) and (p_k+1, c, m_k,k+1) have
+    // the same (doubled) area s[k]. Corner k's piece is (p_k, m_k,k+1, c) + (p_k, c, m_k-1,k).
+    const Point c = p[0] + ((e02 ^ n) * e01.SquaredNorm() + (n ^ e01) * e02.SquaredNorm()) / (2.0 * n2);
+    const std::array<Point, 3> mid{(p[0] + p[1]) * 0.5, (p[1] + p[2]) * 0.5, (p[2] + p[0]) * 0.5};
+    const double inv = 1.0 / std::sqrt(n2);
+    std::array<double, 3> s{};
+    for (int k = 0; k < 3; ++k) s[k] = std::max(0.0, ((mid[k] - p[k]) ^ (c - p[k])) * n * inv);
+    for (int k = 0; k < 3; ++k) {
+      const int prev = (k + 2) % 3;
+      area[k] = s[k] + s[prev];
+      weighted[k] = (p[k] + mid[k] + c) * (s[k] / 3.0) + (p[k] + c + mid[prev]) * (s[prev] / 3.0);
+    }
+    return;
+  }
+  for (int k = 0; k < 3; ++k) CornerPiece(p[k], p[(k + 1) % 3], p[(k + 2) % 3], area[k], weighted[k]);
 }
 
 template <class MeshType>
@@ -577,13 +607,16 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
           const std::array<std::size_t, 3> vi{std::size_t(vcg::tri::Index(m, f.cV(0))),
                                               std::size_t(vcg::tri::Index(m, f.cV(1))),
                                               std::size_t(vcg::tri::Index(m, f.cV(2)))};
+          const std::array<bool, 3> owned{vi[0] >= lo && vi[0] < hi, vi[1] >= lo && vi[1] < hi,
+                                          vi[2] >= lo && vi[2] < hi};
+          if (!owned[0] && !owned[1] && !owned[2]) continue;
+          std::array<double, 3> area;
+          std::array<Point, 3> weighted;
+          FacePieces({position[vi[0]], position[vi[1]], position[vi[2]]}, area, weighted);
           for (int k = 0; k < 3; ++k) {
-            if (vi[k] < lo || vi[k] >= hi) continue;
-            double area;
-            Point weighted;
-            CornerPiece(position[vi[k]], position[vi[(k + 1) % 3]], position[vi[(k + 2) % 3]], area, weighted);
-            cellArea[vi[k]] += area;
-            cellWeighted[vi[k]] += weighted;
+            if (!owned[k]) continue;
+            cellArea[vi[k]] += area[k];
+            cellWeighted[vi[k]] += weighted[k];
           }
         }
       }
