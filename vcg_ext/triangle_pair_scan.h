@@ -95,7 +95,9 @@ private:
   std::vector<std::uint64_t> keys_;
   std::vector<std::uint32_t> order_, tmp_;
   std::vector<Triangle> sorted_;
-  std::vector<FloatBox> sortedBox_;
+  // Boxes (rounded outward to float) and moved flags of the sorted triangles, one array per
+  // bound, so that one triangle is tested against a run of others with vector instructions.
+  std::array<std::vector<float>, 3> sortedLo_, sortedHi_;
   std::vector<std::uint8_t> sortedMoved_;
   std::vector<std::array<std::uint32_t, 3>> sortedIds_;
   std::vector<std::array<std::uint32_t, 3>> cellOf_; // cell coordinates of each sorted triangle
@@ -175,7 +177,10 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
   }
   // Contiguous copies in curve order, and the cells as runs.
   sorted_.resize(order_.size());
-  sortedBox_.resize(order_.size());
+  for (int a = 0; a < 3; ++a) {
+    sortedLo_[a].resize(order_.size());
+    sortedHi_[a].resize(order_.size());
+  }
   sortedMoved_.resize(order_.size());
   sortedIds_.resize(order_.size());
   cellOf_.resize(order_.size());
@@ -183,7 +188,11 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
     for (std::size_t k = begin; k < end; ++k) {
       const std::uint32_t i = order_[k];
       sorted_[k] = input_[i];
-      sortedBox_[k] = FloatBox::Outward(inputBox_[i]);
+      const FloatBox box = FloatBox::Outward(inputBox_[i]);
+      for (int a = 0; a < 3; ++a) {
+        sortedLo_[a][k] = box.lo[a];
+        sortedHi_[a][k] = box.hi[a];
+      }
       sortedMoved_[k] = input_[i].moved ? 1 : 0;
       sortedIds_[k] = input_[i].v;
       for (int a = 0; a < 3; ++a) cellOf_[k][a] = std::uint32_t((inputBox_[i].min[a] - all.min[a]) * inv);
@@ -225,9 +234,11 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
         if (dz > 0 || (dz == 0 && (dy > 0 || (dy == 0 && dx > 0)))) offsets[count++] = {dx, dy, dz};
   ParallelFor(cells_.size(), nThreads, [&](std::size_t begin, std::size_t end, int t) {
     auto& pairs = threadPairs_[t];
+    const float *lx = sortedLo_[0].data(), *ly = sortedLo_[1].data(), *lz = sortedLo_[2].data();
+    const float *hx = sortedHi_[0].data(), *hy = sortedHi_[1].data(), *hz = sortedHi_[2].data();
+    const std::uint8_t* moved = sortedMoved_.data();
+    // Boxes touching and one of the two moved: the exact tests.
     auto test = [&](std::uint32_t a, std::uint32_t b) {
-      if ((sortedMoved_[a] | sortedMoved_[b]) == 0) return;
-      if (!sortedBox_[a].Touches(sortedBox_[b])) return;
       if (skipSharedVertex) {
         const std::array<std::uint32_t, 3>&ia = sortedIds_[a], &ib = sortedIds_[b];
         for (const std::uint32_t x : ia)
@@ -238,10 +249,32 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
         pairs.emplace_back(std::min(i, j), std::max(i, j));
       }
     };
+    // Triangle a against the run [b0, b1): the box tests of a block of the run go into a mask
+    // in one branch-free loop (all 32-bit lanes, so it vectorizes), then the few hits are tested.
+    auto testRun = [&](std::uint32_t a, std::uint32_t b0, std::uint32_t b1) {
+      constexpr std::uint32_t kBlock = 32;
+      const float alx = lx[a], aly = ly[a], alz = lz[a], ahx = hx[a], ahy = hy[a], ahz = hz[a];
+      const bool aMoved = moved[a] != 0;
+      std::array<std::int32_t, kBlock> hit;
+      for (std::uint32_t start = b0; start < b1; start += kBlock) {
+        const std::uint32_t n = std::min(kBlock, b1 - start);
+        for (std::uint32_t j = 0; j < n; ++j) {
+          const std::uint32_t b = start + j;
+          std::int32_t touch = -std::int32_t(alx <= hx[b]);
+          touch &= -std::int32_t(lx[b] <= ahx);
+          touch &= -std::int32_t(aly <= hy[b]);
+          touch &= -std::int32_t(ly[b] <= ahy);
+          touch &= -std::int32_t(alz <= hz[b]);
+          touch &= -std::int32_t(lz[b] <= ahz);
+          hit[j] = touch;
+        }
+        for (std::uint32_t j = 0; j < n; ++j)
+          if (hit[j] != 0 && (aMoved || moved[start + j] != 0)) test(a, start + j);
+      }
+    };
     for (std::size_t c = begin; c < end; ++c) {
       const Cell& cell = cells_[c];
-      for (std::uint32_t a = cell.begin; a < cell.end; ++a)
-        for (std::uint32_t b = a + 1; b < cell.end; ++b) test(a, b);
+      for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, a + 1, cell.end);
       const std::array<std::uint32_t, 3>& xyz = cellOf_[cell.begin];
       for (const auto& o : offsets) {
         const long x = long(xyz[0]) + o[0], y = long(xyz[1]) + o[1], z = long(xyz[2]) + o[2];
@@ -249,8 +282,7 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
         const int other = FindCell(Key(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
         if (other < 0) continue;
         const Cell& oc = cells_[other];
-        for (std::uint32_t a = cell.begin; a < cell.end; ++a)
-          for (std::uint32_t b = oc.begin; b < oc.end; ++b) test(a, b);
+        for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, oc.begin, oc.end);
       }
     }
   }, 64);
