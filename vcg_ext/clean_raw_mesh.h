@@ -84,6 +84,7 @@
 #include <limits>
 #include <memory>
 #include <numeric>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -1469,10 +1470,10 @@ private:
   /// Regions to repair: faces of intersecting pairs (MeshQuality's definition) and faces on both sides
   /// of an orientation conflict, grouped through those pairs and through shared edges.
   /// Returns whether anything was repaired.
-  static bool RepairTangles(MeshType& m, const Params& params, double meanEdge, double tol, bool intersections,
-                            const std::vector<std::pair<Index, Index>>& orientationConflicts, int& attemptsLeft,
-                            Result& r) {
-    FaceGrid grid(m, 2.0 * meanEdge);
+  static bool RepairTangles(MeshType& m, const Params& params, double meanEdge, double tol,
+                            bool intersections,
+                            const std::vector<std::pair<Index, Index>>& orientationConflicts,
+                            int& attemptsLeft, Result& r) {
     // Intersecting pairs, grouped into regions (union-find over faces).
     std::vector<Index> parent(m.face.size());
     std::iota(parent.begin(), parent.end(), Index(0));
@@ -1482,39 +1483,26 @@ private:
     };
     std::vector<std::uint8_t> involved(m.face.size(), 0);
     if (intersections) {
-      // The search for intersecting pairs (read-only) runs in parallel, block by block; the
-      // pairs are then merged in face order, as a serial search would find them.
-      constexpr std::size_t kBlock = 2048;
-      const std::size_t blocks = (m.face.size() + kBlock - 1) / kBlock;
-      const int threads = ResolveThreadCount(params.threads);
-      std::vector<std::vector<std::pair<Index, Index>>> blockPairs(blocks);
-      std::vector<typename FaceGrid::Marks> marks(static_cast<std::size_t>(threads));
-      std::vector<std::vector<Index>> candidates(static_cast<std::size_t>(threads));
-      ParallelFor(
-          blocks, threads,
-          [&](std::size_t begin, std::size_t end, int thread) {
-            for (std::size_t block = begin; block < end; ++block)
-              for (Index f = Index(block * kBlock); f < std::min(m.face.size(), (block + 1) * kBlock); ++f) {
-                if (m.face[f].IsD()) continue;
-                const Tri t = FaceTri(m, m.face[f]);
-                grid.Query(m, FaceGrid::Box(m, t, tol), candidates[thread], marks[thread]);
-                for (Index g : candidates[thread]) {
-                  if (g <= f) continue;
-                  const Tri s = FaceTri(m, m.face[g]);
-                  int shared = 0;
-                  for (Index a : t)
-                    for (Index b : s) shared += a == b;
-                  if (shared < 2 && Conflict(m, t, s)) blockPairs[block].emplace_back(f, g);
-                }
-              }
-          },
-          1);
-      for (const auto& pairs : blockPairs)
-        for (const auto& [f, g] : pairs) {
-          involved[f] = involved[g] = 1;
-          const Index a = find(f), b = find(g);
-          if (a != b) parent[std::max(a, b)] = std::min(a, b);
-        }
+      // All pairs at once with MeshQuality's parallel broad phase and Conflict's predicates
+      // (faces on the same three vertices intersect). Each region's root is its smallest face,
+      // so the regions do not depend on the order the pairs come in.
+      std::vector<Tri> tris;
+      std::vector<Index> faceOf;
+      for (Index f = 0; f < m.face.size(); ++f) {
+        if (m.face[f].IsD()) continue;
+        tris.push_back(FaceTri(m, m.face[f]));
+        faceOf.push_back(f);
+      }
+      std::vector<Point> points(m.vert.size());
+      for (Index v = 0; v < m.vert.size(); ++v) points[v] = Pos(m, v);
+      const auto pairs = quality_detail::FindSelfIntersections(tris, points, meanEdge,
+                                                               ResolveThreadCount(params.threads), true);
+      for (const quality_detail::IntersectingPair& pair : pairs) {
+        const Index f = faceOf[pair.i], g = faceOf[pair.j];
+        involved[f] = involved[g] = 1;
+        const Index a = find(f), b = find(g);
+        if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      }
     }
     for (const auto& [f, g] : orientationConflicts) {
       if (m.face[f].IsD() || m.face[g].IsD()) continue;
@@ -1546,13 +1534,18 @@ private:
     std::stable_sort(roots.begin(), roots.end(),
                      [&regions](Index a, Index b) { return regions[a].size() < regions[b].size(); });
     std::size_t repaired = 0;
+    // The repairs' face grid, built once there is something to repair (from the faces as they are
+    // now: nothing above has edited them).
+    std::optional<FaceGrid> grid;
+    if (!roots.empty()) grid.emplace(m, 2.0 * meanEdge);
     for (Index root : roots) {
       // An earlier repair may have taken some of these faces with it (its grown rings).
       std::vector<Index> live;
       for (Index f : regions[root])
         if (!m.face[f].IsD()) live.push_back(f);
       if (live.empty()) continue;
-      if (RepairRegion(m, live, params, meanEdge, tol, grid, attemptsLeft, r.tangleFacesRemoved, r.tangleFacesAdded)) {
+      if (RepairRegion(m, live, params, meanEdge, tol, *grid, attemptsLeft, r.tangleFacesRemoved,
+                       r.tangleFacesAdded)) {
         ++r.repairedTangles;
         ++repaired;
         if (!intersections) return true;

@@ -528,7 +528,16 @@ struct IntersectionCounts {
   std::size_t faces = 0;         ///< faces in at least one such pair
 };
 
-/// Counts intersecting pairs among the given (non-degenerate, finite) triangles.
+/// An intersecting pair found by FindSelfIntersections: triangles i and j (i != j, in no
+/// particular order), sharing one vertex (adjacent) or none.
+struct IntersectingPair {
+  Index i, j;
+  bool adjacent;
+};
+
+/// All intersecting pairs among the given (finite) triangles, in no particular order: pairs
+/// sharing no vertex that intersect, pairs sharing one vertex that also meet elsewhere, and,
+/// with duplicatesIntersect, pairs with the same three vertices (reported as adjacent).
 ///
 /// Broad phase: a uniform grid of cells two median edge lengths wide (the median, unlike the
 /// mean, is not inflated by a few huge faces). Cells are hashed by wrapping their integer
@@ -543,10 +552,11 @@ struct IntersectionCounts {
 /// arrays, cells are tested in parallel into per-thread lists of intersecting pairs, and the
 /// figures are counted from those lists. Every pair is tested exactly once whichever thread
 /// tests it, so the counts do not depend on the thread count.
-inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
-                                                 const std::vector<Point>& points, double medianEdge,
-                                                 int threads) {
-  IntersectionCounts result;
+inline std::vector<IntersectingPair> FindSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
+                                                           const std::vector<Point>& points,
+                                                           double medianEdge, int threads,
+                                                           bool duplicatesIntersect = false) {
+  std::vector<IntersectingPair> result;
   const std::size_t n = tris.size();
   if (n < 2) return result;
   threads = ResolveThreadCount(threads);
@@ -605,10 +615,7 @@ inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<In
   });
 
   // Intersecting pairs found by each thread; `adjacent` tells the kind.
-  struct Hit {
-    Index i, j;
-    bool adjacent;
-  };
+  using Hit = IntersectingPair;
   std::vector<std::vector<Hit>> hits(static_cast<std::size_t>(threads));
   auto testPair = [&](Index i, Index j, std::vector<Hit>& out) {
     if (!BoxesTouch(boxes[i], boxes[j])) return;
@@ -616,6 +623,7 @@ inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<In
     for (int u = 0; u < 3; ++u)
       for (int w = 0; w < 3; ++w)
         if (tris[i][u] == tris[j][w]) ++shared, ci = u, cj = w;
+    if (shared == 3 && duplicatesIntersect) out.push_back({i, j, true});
     if (shared > 1) return;
     if (shared == 0 && TrianglesIntersect(planar[i], planar[j])) {
       out.push_back({i, j, false});
@@ -715,12 +723,21 @@ inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<In
   };
   ParallelFor(cellStart.size() - 1, threads, testCells, 256); // cells hold few faces: smaller blocks
 
-  std::vector<bool> involved(n, false);
-  for (const std::vector<Hit>& list : hits)
-    for (const Hit& hit : list) {
-      ++(hit.adjacent ? result.adjacentPairs : result.disjointPairs);
-      involved[hit.i] = involved[hit.j] = true;
-    }
+  for (const std::vector<Hit>& list : hits) result.insert(result.end(), list.begin(), list.end());
+  return result;
+}
+
+/// Counts intersecting pairs among the given (non-degenerate, finite) triangles
+/// (FindSelfIntersections).
+inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
+                                                 const std::vector<Point>& points, double medianEdge,
+                                                 int threads) {
+  IntersectionCounts result;
+  std::vector<bool> involved(tris.size(), false);
+  for (const IntersectingPair& hit : FindSelfIntersections(tris, points, medianEdge, threads)) {
+    ++(hit.adjacent ? result.adjacentPairs : result.disjointPairs);
+    involved[hit.i] = involved[hit.j] = true;
+  }
   result.faces = std::size_t(std::count(involved.begin(), involved.end(), true));
   return result;
 }
