@@ -84,6 +84,7 @@
 #include <functional>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -1162,12 +1163,31 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
       kPartialFractions{0.75, 0.5};   // of the way to the input vertex
   constexpr double partialGain = 0.8; // a partial move must cut the distance by 20 % at least
   bool partialPhase = false;          // after the full snaps stop: part of the way
+  // Reference vertices whose distance is measured (anew) in a round: all of them in the first.
+  // Later, only those that were far, and those whose closest face has a corner moved by the
+  // round before: for any other, that face is unchanged, so its distance can only have dropped
+  // and it was within the tolerance already. The far points and their distances are then exactly
+  // what measuring every vertex would give.
+  std::vector<std::uint32_t> measure(ref.VertexCount());
+  std::iota(measure.begin(), measure.end(), std::uint32_t(0));
+  std::vector<std::size_t> faceOf, movedLastRound;
   for (int round = 0; round < params.snapRounds + 1; ++round) {
+    if (round > 0) {
+      std::vector<std::uint8_t> touched(m.face.size(), 0);
+      for (const std::size_t vi : movedLastRound)
+        for (vcg::face::VFIterator<FaceType> it(&m.vert[vi]); !it.End(); ++it)
+          touched[std::size_t(vcg::tri::Index(m, it.F()))] = 1;
+      measure.clear();
+      for (std::size_t i = 0; i < distance.size(); ++i)
+        if (distance[i] > tolerance || hitFace[i] < 0 || touched[faceOf[std::size_t(hitFace[i])]])
+          measure.push_back(std::uint32_t(i));
+      movedLastRound.clear();
+    }
     // Exact distances of the reference vertices to the current mesh.
     std::vector<Point> points(m.vert.size());
     for (std::size_t i = 0; i < m.vert.size(); ++i) points[i] = Ops::ToPoint(m.vert[i].cP());
     std::vector<std::array<distance_detail::Index, 3>> tris;
-    std::vector<std::size_t> faceOf;
+    faceOf.clear(); // the same faces every round (moves only), so hitFace stays valid
     tris.reserve(m.face.size());
     faceOf.reserve(m.face.size());
     for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
@@ -1182,8 +1202,9 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
     TriangleGrid grid;
     grid.Build(std::move(points), std::move(tris));
     std::vector<TriangleGrid::QueryScratch> scratch(static_cast<std::size_t>(threads));
-    ParallelFor(ref.VertexCount(), threads, [&](std::size_t begin, std::size_t end, int t) {
-      for (std::size_t i = begin; i < end; ++i) {
+    ParallelFor(measure.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+      for (std::size_t k = begin; k < end; ++k) {
+        const std::uint32_t i = measure[k];
         const TriangleGrid::Hit hit = grid.Closest(ref.Vertex(i), scratch[std::size_t(t)]);
         distance[i] = hit.distance;
         hitFace[i] = hit.face;
@@ -1249,6 +1270,7 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
           if (okMove) {
             if (vi >= snapped.size()) snapped.resize(vi + 1, 0);
             snapped[vi] = 1;
+            movedLastRound.push_back(vi);
             ++roundMoves;
             moved = true;
             break;
