@@ -88,8 +88,13 @@ public:
   /// Inserts every face i < n for which boxOf(i, box) returns true (with its box) into an empty
   /// grid: the same grid as Insert(i, box) called in increasing i, so queries visit faces in the
   /// same order. Boxes and cell ranges are computed on `threads` threads (boxOf is called
-  /// concurrently, once per i); cells are created and filled in index order, each cell's list
-  /// allocated once at its final size.
+  /// concurrently, once per i). A large grid is filled block by block (kInsertBlockFaces
+  /// consecutive faces, whatever the thread count): each block finds its cells in a small table
+  /// of its own, in parallel, so the grid's own (large, cache-missing) table is asked once per
+  /// cell of a block instead of once per cell of a face; the blocks' faces then go into the cell
+  /// lists in parallel, each block after the blocks before it, which leaves every list in
+  /// increasing face order. Cell slot numbers differ from serial insertion's, but they are
+  /// handles only: no answer depends on them.
   template <class BoxOf>
   void InsertAll(std::size_t n, BoxOf&& boxOf, int threads) {
     Resize(n);
@@ -111,32 +116,97 @@ public:
       }
     });
     for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-    // Cell slots in face order (as Insert creates them). Consecutive faces mostly share cells,
-    // so a small cache of the last lookups saves most of the hashing.
-    std::vector<std::uint32_t> slotOf(start[n]);
-    std::vector<std::uint32_t> cellSize;
-    std::array<std::pair<std::uint64_t, std::uint32_t>, 64> recent;
-    recent.fill({kEmpty, 0});
-    for (std::size_t i = 0; i < n; ++i) {
-      FaceEntry& e = faces_[i];
-      if (!e.in) continue;
-      std::uint32_t* out = slotOf.data() + start[i];
-      for (int z = e.range[2]; z <= e.range[5]; ++z)
-        for (int y = e.range[1]; y <= e.range[4]; ++y)
-          for (int x = e.range[0]; x <= e.range[3]; ++x) {
-            const std::uint64_t key = Key(x, y, z);
-            auto& cached = recent[(key ^ (key >> 21) ^ (key >> 42)) & (recent.size() - 1)];
-            if (cached.first != key) cached = {key, FindOrCreate(x, y, z)};
-            const std::uint32_t slot = cached.second;
-            if (slot >= cellSize.size()) cellSize.resize(slot + 1, 0);
-            ++cellSize[slot];
-            *out++ = slot;
-            if (e.slotCount != kNoSlots) e.cellSlots[e.slotCount++] = slot;
-          }
+    const std::size_t blocks = (n + kInsertBlockFaces - 1) / kInsertBlockFaces;
+    if (blocks <= 1) {
+      for (std::size_t i = 0; i < n; ++i) {
+        FaceEntry& e = faces_[i];
+        if (!e.in) continue;
+        ForEachCell(e.range, [&](int x, int y, int z) {
+          const std::uint32_t slot = FindOrCreate(x, y, z);
+          cells_[slot].push_back(std::uint32_t(i));
+          if (e.slotCount != kNoSlots) e.cellSlots[e.slotCount++] = slot;
+        });
+      }
+      return;
     }
-    for (std::size_t c = 0; c < cellSize.size(); ++c) cells_[c].reserve(cells_[c].size() + cellSize[c]);
-    for (std::size_t i = 0; i < n; ++i)
-      for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) cells_[slotOf[k]].push_back(std::uint32_t(i));
+    // 1. Each block's cells, numbered in the block in order of first use, with their face counts;
+    //    entry k of face i (in cell order) gets its block cell number in local[start[i] + k].
+    struct Block {
+      std::vector<std::uint64_t> keys;                // block cell -> key
+      std::vector<std::uint32_t> count, slot, offset; // faces, grid slot, first place in the list
+    };
+    std::vector<Block> block(blocks);
+    std::vector<std::uint32_t> local(start[n]);
+    ParallelFor(
+        blocks, threads,
+        [&](std::size_t bBegin, std::size_t bEnd, int) {
+          std::vector<std::uint64_t> tableKeys;
+          std::vector<std::uint32_t> tableIds;
+          for (std::size_t b = bBegin; b < bEnd; ++b) {
+            const std::size_t i0 = b * kInsertBlockFaces, i1 = std::min(n, i0 + kInsertBlockFaces);
+            std::size_t size = 16;
+            while (size < 2 * std::size_t(start[i1] - start[i0])) size *= 2;
+            tableKeys.assign(size, kEmpty);
+            tableIds.resize(size);
+            Block& out = block[b];
+            for (std::size_t i = i0; i < i1; ++i) {
+              if (!faces_[i].in) continue;
+              std::uint32_t* id = local.data() + start[i];
+              ForEachCell(faces_[i].range, [&](int x, int y, int z) {
+                const std::uint64_t key = Key(x, y, z);
+                std::size_t t = Hash(key) & (size - 1);
+                while (tableKeys[t] != key && tableKeys[t] != kEmpty) t = (t + 1) & (size - 1);
+                if (tableKeys[t] == kEmpty) {
+                  tableKeys[t] = key;
+                  tableIds[t] = std::uint32_t(out.keys.size());
+                  out.keys.push_back(key);
+                  out.count.push_back(0);
+                }
+                ++out.count[tableIds[t]];
+                *id++ = tableIds[t];
+              });
+            }
+          }
+        },
+        1);
+    // 2. Grid cells for the block cells, block after block; each block's place in each list.
+    std::vector<std::uint32_t> listSize(cells_.size());
+    for (std::size_t c = 0; c < cells_.size(); ++c) listSize[c] = std::uint32_t(cells_[c].size());
+    for (Block& b : block) {
+      b.slot.resize(b.keys.size());
+      b.offset.resize(b.keys.size());
+      for (std::size_t l = 0; l < b.keys.size(); ++l) {
+        const std::uint64_t key = b.keys[l];
+        const std::uint32_t slot = FindOrCreate(int(key >> 42) - kBias, int((key >> 21) & kAxisMask) - kBias,
+                                                int(key & kAxisMask) - kBias);
+        if (slot >= listSize.size()) listSize.resize(slot + 1, 0);
+        b.slot[l] = slot;
+        b.offset[l] = listSize[slot];
+        listSize[slot] += b.count[l];
+      }
+    }
+    ParallelFor(cells_.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t c = begin; c < end; ++c) cells_[c].resize(listSize[c]);
+    });
+    // 3. The faces into their lists and their cell slots, block by block in parallel.
+    ParallelFor(
+        blocks, threads,
+        [&](std::size_t bBegin, std::size_t bEnd, int) {
+          for (std::size_t b = bBegin; b < bEnd; ++b) {
+            Block& bl = block[b];
+            const std::size_t i0 = b * kInsertBlockFaces, i1 = std::min(n, i0 + kInsertBlockFaces);
+            for (std::size_t i = i0; i < i1; ++i) {
+              FaceEntry& e = faces_[i];
+              if (!e.in) continue;
+              for (std::uint32_t k = start[i]; k < start[i + 1]; ++k) {
+                const std::uint32_t l = local[k];
+                cells_[bl.slot[l]][bl.offset[l]++] = std::uint32_t(i);
+                if (e.slotCount != kNoSlots) e.cellSlots[e.slotCount++] = bl.slot[l];
+              }
+            }
+          }
+        },
+        1);
   }
 
   void Remove(std::size_t f) {
@@ -249,6 +319,9 @@ private:
   static constexpr std::uint64_t kEmpty = std::numeric_limits<std::uint64_t>::max();
   static constexpr int kBias = 1 << 20; ///< cell coordinates are clamped to [-2^20, 2^20)
   static constexpr int kInlineSlots = 8;
+  static constexpr std::uint64_t kAxisMask = (std::uint64_t(1) << 21) - 1; ///< one coordinate of a Key
+  static constexpr std::size_t kInsertBlockFaces =
+      8192; ///< InsertAll's blocks: small enough for their tables to stay in cache
   static constexpr std::uint8_t kNoSlots = 0xff;
 
   struct FaceEntry {
@@ -270,6 +343,13 @@ private:
       r[k] = CellCoord(b.min[k], k);
       r[k + 3] = CellCoord(b.max[k], k);
     }
+  }
+  /// Calls fn(x, y, z) for the cells of range r, z outermost, x innermost (Insert's order).
+  template <class Fn>
+  static void ForEachCell(const std::array<int, 6>& r, Fn&& fn) {
+    for (int z = r[2]; z <= r[5]; ++z)
+      for (int y = r[1]; y <= r[4]; ++y)
+        for (int x = r[0]; x <= r[3]; ++x) fn(x, y, z);
   }
   static std::uint64_t Key(int x, int y, int z) {
     return (std::uint64_t(x + kBias) << 42) | (std::uint64_t(y + kBias) << 21) | std::uint64_t(z + kBias);
