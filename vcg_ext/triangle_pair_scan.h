@@ -4,11 +4,12 @@
 // "what is near this face?" face by face costs a cache miss per candidate. TrianglePairScan
 // instead sorts the triangles along a Morton curve of the grid cell holding their bounding box's
 // lowest corner (cells as large as the largest box, so touching boxes sit in the same or in
-// adjacent cells), copies them into contiguous arrays in that order, and tests each cell against
-// itself and its 13 "forward" neighbours. Only pairs with at least one triangle flagged `moved`
-// are tested; a pair is reported when local_ops_detail::FacesIntersect says so (MeshQuality's
-// predicates: no contact for faces sharing no vertex, no contact beyond the shared corner for
-// faces sharing one). Deterministic: the pairs come out sorted.
+// adjacent cells), copies what the box test reads (float boxes, vertex ids, moved flags) into
+// contiguous arrays in that order, and tests each cell against itself and its 13 "forward"
+// neighbours; the few pairs whose boxes touch read the full triangles where Build collected them. Only pairs
+// with at least one triangle flagged `moved` are tested; a pair is reported when
+// local_ops_detail::FacesIntersect says so (MeshQuality's predicates: no contact for faces sharing no vertex,
+// no contact beyond the shared corner for faces sharing one). Deterministic: the pairs come out sorted.
 #pragma once
 
 #include <vcg/space/box3.h>
@@ -71,6 +72,15 @@ private:
     x = (x | x << 2) & 0x1249249249249249ULL;
     return x;
   }
+  static std::uint32_t Compact(std::uint64_t x) { // every third bit -> 21 bits (Spread's inverse)
+    x &= 0x1249249249249249ULL;
+    x = (x ^ (x >> 2)) & 0x10c30c30c30c30c3ULL;
+    x = (x ^ (x >> 4)) & 0x100f00f00f00f00fULL;
+    x = (x ^ (x >> 8)) & 0x1f0000ff0000ffULL;
+    x = (x ^ (x >> 16)) & 0x1f00000000ffffULL;
+    x = (x ^ (x >> 32)) & 0x1fffff;
+    return std::uint32_t(x);
+  }
   static std::uint64_t Key(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
     return Spread(x) | (Spread(y) << 1) | (Spread(z) << 2);
   }
@@ -94,13 +104,11 @@ private:
   std::vector<vcg::Box3d> inputBox_;
   std::vector<std::uint64_t> keys_;
   std::vector<std::uint32_t> order_, tmp_;
-  std::vector<Triangle> sorted_;
   // Boxes (rounded outward to float) and moved flags of the sorted triangles, one array per
   // bound, so that one triangle is tested against a run of others with vector instructions.
   std::array<std::vector<float>, 3> sortedLo_, sortedHi_;
   std::vector<std::uint8_t> sortedMoved_;
   std::vector<std::array<std::uint32_t, 3>> sortedIds_;
-  std::vector<std::array<std::uint32_t, 3>> cellOf_; // cell coordinates of each sorted triangle
   std::vector<Cell> cells_;
   std::vector<std::uint64_t> tableKeys_;
   std::vector<std::uint32_t> tableCells_;
@@ -142,7 +150,7 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
     extent = std::max({extent, d[0], d[1], d[2]});
   }
   cells_.clear();
-  sorted_.clear();
+  order_.clear();
   if (live == 0) return;
   const Point dim = all.Dim();
   double cell = extent * (1.0 + 1e-9) + 1e-300;
@@ -175,19 +183,16 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
     for (const std::uint32_t i : order_) tmp_[count[(keys_[i] >> shift) & 0xffff]++] = i;
     order_.swap(tmp_);
   }
-  // Contiguous copies in curve order, and the cells as runs.
-  sorted_.resize(order_.size());
+  // What the box test reads, contiguous in curve order, and the cells as runs.
   for (int a = 0; a < 3; ++a) {
     sortedLo_[a].resize(order_.size());
     sortedHi_[a].resize(order_.size());
   }
   sortedMoved_.resize(order_.size());
   sortedIds_.resize(order_.size());
-  cellOf_.resize(order_.size());
   ParallelFor(order_.size(), threads, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t k = begin; k < end; ++k) {
       const std::uint32_t i = order_[k];
-      sorted_[k] = input_[i];
       const FloatBox box = FloatBox::Outward(inputBox_[i]);
       for (int a = 0; a < 3; ++a) {
         sortedLo_[a][k] = box.lo[a];
@@ -195,7 +200,6 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
       }
       sortedMoved_[k] = input_[i].moved ? 1 : 0;
       sortedIds_[k] = input_[i].v;
-      for (int a = 0; a < 3; ++a) cellOf_[k][a] = std::uint32_t((inputBox_[i].min[a] - all.min[a]) * inv);
     }
   });
   for (std::size_t k = 0; k < order_.size();) {
@@ -244,8 +248,8 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
         for (const std::uint32_t x : ia)
           if (x == ib[0] || x == ib[1] || x == ib[2]) return;
       }
-      if (intersect(sorted_[a], sorted_[b])) {
-        const std::uint32_t i = order_[a], j = order_[b];
+      const std::uint32_t i = order_[a], j = order_[b];
+      if (intersect(input_[i], input_[j])) {
         pairs.emplace_back(std::min(i, j), std::max(i, j));
       }
     };
@@ -275,7 +279,8 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
     for (std::size_t c = begin; c < end; ++c) {
       const Cell& cell = cells_[c];
       for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, a + 1, cell.end);
-      const std::array<std::uint32_t, 3>& xyz = cellOf_[cell.begin];
+      const std::array<std::uint32_t, 3> xyz{Compact(cell.key), Compact(cell.key >> 1),
+                                             Compact(cell.key >> 2)};
       for (const auto& o : offsets) {
         const long x = long(xyz[0]) + o[0], y = long(xyz[1]) + o[1], z = long(xyz[2]) + o[2];
         if (x < 0 || y < 0 || z < 0) continue;
