@@ -593,8 +593,21 @@ private:
   /// (ideal 6, 4 on the boundary), as LocalRemeshingOps::FlipValenceGain, from cached valences.
   std::size_t FlipPass() {
     ComputeValences();
+    // Only faces with a free corner can hold a flippable edge (one with a free end), and only
+    // they change when one is flipped (both faces hold its free end): the others are skipped
+    // without being read, which matters when most of the mesh is locked (the strip pass).
+    const std::size_t nf = m_.face.size();
+    activeFlag_.assign(nf, 0);
+    ParallelFor(nf, threads_, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t fi = begin; fi < end; ++fi) {
+        const FaceType& f = m_.face[fi];
+        activeFlag_[fi] =
+            !f.IsD() && !(ops_.IsLocked(*f.cV(0)) && ops_.IsLocked(*f.cV(1)) && ops_.IsLocked(*f.cV(2)));
+      }
+    });
     std::size_t done = 0;
-    for (std::size_t fi = 0; fi < m_.face.size(); ++fi) {
+    for (std::size_t fi = 0; fi < nf; ++fi) {
+      if (!activeFlag_[fi]) continue;
       FaceType& f = m_.face[fi];
       if (f.IsD()) continue;
       for (int e = 0; e < 3; ++e) {
@@ -898,12 +911,15 @@ private:
   std::size_t RepairPass() {
     const double threshold = 1.0;
     bad_.clear();
-    for (std::size_t fi = 0; fi < m_.face.size(); ++fi) {
-      const FaceType& f = m_.face[fi];
-      if (f.IsD()) continue;
-      const double s = FaceScore(f);
-      if (s < threshold) bad_.emplace_back(s, std::uint32_t(fi));
-    }
+    // Scores on all threads, the bad faces collected in face order.
+    const std::size_t nf = m_.face.size();
+    score_.resize(nf);
+    ParallelFor(nf, threads_, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t fi = begin; fi < end; ++fi)
+        score_[fi] = m_.face[fi].IsD() ? threshold : FaceScore(m_.face[fi]);
+    });
+    for (std::size_t fi = 0; fi < nf; ++fi)
+      if (score_[fi] < threshold) bad_.emplace_back(score_[fi], std::uint32_t(fi));
     std::sort(bad_.begin(), bad_.end());
     std::size_t done = 0;
     for (const auto& [score, fi] : bad_) {
@@ -958,6 +974,8 @@ private:
   std::vector<Point> targets_;
   std::vector<int> feet_;
   std::vector<std::pair<double, std::uint32_t>> bad_;
+  std::vector<double> score_;            ///< RepairPass: every face's score
+  std::vector<std::uint8_t> activeFlag_; ///< FlipPass: faces with a free corner
   std::vector<std::pair<Point, Point>> ring_;
   std::vector<int> valence_;
   std::vector<std::uint8_t> boundary_;
