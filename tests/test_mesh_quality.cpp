@@ -8,6 +8,7 @@
 #include <vcg/complex/algorithms/create/platonic.h>
 #include <wrap/io_trimesh/import_ply.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -726,6 +727,36 @@ TEST(MeshQuality, AliasedGridCellsDoNotRepeatPairs) {
   const auto brute = BruteForceIntersections(pair);
   EXPECT_EQ(two.selfIntersectingPairs, brute[0]);
   EXPECT_EQ(two.adjacentOverlapPairs, brute[1]);
+}
+
+TEST(MeshQuality, FindSelfIntersectionsListsEachPairOnceWithItsKind) {
+  // 0: a triangle in z = 0; 1: one crossing it (no shared vertex, away from 2); 2: one sharing
+  // vertex 0 whose edge to vertex 6 lies inside triangle 0; 3: triangle 0 again (same vertices).
+  using molremesh::quality_detail::FindSelfIntersections;
+  using molremesh::quality_detail::IntersectingPair;
+  const std::vector<Point> points{Point(0, 0, 0),      Point(2, 0, 0),     Point(0, 2, 0),
+                                  Point(1.5, 0.1, -1), Point(1.5, 0.1, 1), Point(1.5, 0.3, 1),
+                                  Point(1, 0.2, 0),    Point(0.2, 1, 0.5)};
+  const std::vector<std::array<molremesh::quality_detail::Index, 3>> tris{
+      {0, 1, 2}, {3, 4, 5}, {0, 6, 7}, {0, 1, 2}};
+  auto sorted = [](std::vector<IntersectingPair> pairs) {
+    std::vector<std::tuple<std::uint32_t, std::uint32_t, bool>> out;
+    for (const auto& p : pairs) out.emplace_back(std::min(p.i, p.j), std::max(p.i, p.j), p.adjacent);
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  for (int threads : {1, 2}) {
+    const auto without = sorted(FindSelfIntersections(tris, points, 1.0, threads));
+    const auto with = sorted(FindSelfIntersections(tris, points, 1.0, threads, true));
+    using T = std::tuple<std::uint32_t, std::uint32_t, bool>;
+    // Triangle 1 crosses 0 and its copy 3; 2 overlaps 0 and 3 beyond their shared corner.
+    const std::vector<T> expected{T{0, 1, false}, T{0, 2, true}, T{1, 3, false}, T{2, 3, true}};
+    EXPECT_EQ(without, expected);
+    std::vector<T> withDuplicates = expected;
+    withDuplicates.push_back(T{0, 3, true});
+    std::sort(withDuplicates.begin(), withDuplicates.end());
+    EXPECT_EQ(with, withDuplicates);
+  }
 }
 
 // ----------------------------------------------------------------------------------------------
