@@ -129,7 +129,7 @@ TEST(CvtInitialization, CornerPiecesPartitionTheTriangle) {
     EXPECT_NEAR((weighted / total - (p[0] + p[1] + p[2]) / 3.0).Norm(), 0.0, 1e-9);
     for (int k = 0; k < 3; ++k) obtuse += (p[(k + 1) % 3] - p[k]) * (p[(k + 2) % 3] - p[k]) < 0;
   }
-  EXPECT_GT(obtuse, 100); // both the quad fast path and the clipping were exercised
+  EXPECT_GT(obtuse, 100); // obtuse corners (pieces cut by one bisector only) were exercised
 }
 
 TEST(CvtInitialization, FacePiecesAgreeWithCornerPieces) {

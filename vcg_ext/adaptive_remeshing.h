@@ -607,9 +607,8 @@ private:
     });
     std::size_t done = 0;
     for (std::size_t fi = 0; fi < nf; ++fi) {
-      if (!activeFlag_[fi]) continue;
+      if (!activeFlag_[fi]) continue; // live, with a free corner (flips delete no face)
       FaceType& f = m_.face[fi];
-      if (f.IsD()) continue;
       for (int e = 0; e < 3; ++e) {
         FaceType* g = f.FFp(e);
         if (g == &f || g < &f) continue;

@@ -1115,23 +1115,14 @@ private:
       if (CellCount(box) > kMaxCells) big_.push_back(f);
       else ForCells(box, [&](std::uint64_t key) { added_[key].push_back(f); });
     }
-    /// Per-thread visit marks of the const Query.
-    struct Marks {
-      std::vector<std::uint32_t> stamp;
-      std::uint32_t current = 0;
-    };
     /// Live faces whose bounding box touches box (closed test), each once.
     void Query(const MeshType& m, const vcg::Box3d& box, std::vector<Index>& out) {
-      Query(m, box, out, marks_);
-    }
-    /// Same, thread-safe with one Marks per thread while the grid is not modified.
-    void Query(const MeshType& m, const vcg::Box3d& box, std::vector<Index>& out, Marks& marks) const {
       out.clear();
-      if (marks.stamp.size() < m.face.size()) marks.stamp.resize(m.face.size(), 0);
-      ++marks.current;
+      if (marks_.stamp.size() < m.face.size()) marks_.stamp.resize(m.face.size(), 0);
+      ++marks_.current;
       auto consider = [&](Index f) {
-        if (f >= m.face.size() || marks.stamp[f] == marks.current || m.face[f].IsD()) return;
-        marks.stamp[f] = marks.current;
+        if (f >= m.face.size() || marks_.stamp[f] == marks_.current || m.face[f].IsD()) return;
+        marks_.stamp[f] = marks_.current;
         const vcg::Box3d fb = Box(m, FaceTri(m, m.face[f]));
         for (int a = 0; a < 3; ++a)
           if (fb.max[a] < box.min[a] || box.max[a] < fb.min[a]) return;
@@ -1184,6 +1175,10 @@ private:
     std::vector<std::pair<std::uint64_t, Index>> sorted_;
     std::vector<Index> big_;
     std::unordered_map<std::uint64_t, std::vector<Index>> added_;
+    struct Marks { // visit marks of Query
+      std::vector<std::uint32_t> stamp;
+      std::uint32_t current = 0;
+    };
     Marks marks_;
   };
 

@@ -131,10 +131,6 @@ public:
     return Run(m, &reference, params, cb);
   }
 
-  /// Area-weighted centroid of the one-ring approximation of v's Voronoi cell (see the file
-  /// comment). Returns v's position when its star has no area. Thread-safe (reads only).
-  static Point CellCentroid(const VertexType& v);
-
   /// Area (x2) and area-weighted centroid (x2) of the part of triangle (p0, p1, p2) closer to p0
   /// than to p1 and p2: the triangle clipped by the two perpendicular bisectors through p0.
   static void CornerPiece(const Point& p0, const Point& p1, const Point& p2, double& area, Point& weighted);
@@ -200,22 +196,6 @@ private:
 template <class MeshType>
 void CvtInitialization<MeshType>::CornerPiece(const Point& p0, const Point& p1, const Point& p2, double& area,
                                               Point& weighted) {
-  const Point e1 = p1 - p0, e2 = p2 - p0;
-  if (e1 * e2 >= 0 && (p0 - p1) * (p2 - p1) >= 0 && (p0 - p2) * (p1 - p2) >= 0) {
-    // Non-obtuse: the piece is the quad (p0, mid01, circumcentre, mid02).
-    const Point n = e1 ^ e2;
-    const double n2 = n.SquaredNorm();
-    if (n2 > 0) {
-      const Point c = p0 + ((e2 ^ n) * e1.SquaredNorm() + (n ^ e1) * e2.SquaredNorm()) / (2.0 * n2);
-      const Point m01 = (p0 + p1) * 0.5, m02 = (p0 + p2) * 0.5;
-      const double inv = 1.0 / std::sqrt(n2);
-      const double a1 = std::max(0.0, ((m01 - p0) ^ (c - p0)) * n * inv);
-      const double a2 = std::max(0.0, ((c - p0) ^ (m02 - p0)) * n * inv);
-      area = a1 + a2;
-      weighted = (p0 + m01 + c) * (a1 / 3.0) + (p0 + c + m02) * (a2 / 3.0);
-      return;
-    }
-  }
   std::array<Point, 8> poly{}, clipped{};
   int n = 3;
   poly[0] = p0;
@@ -267,25 +247,6 @@ void CvtInitialization<MeshType>::FacePieces(const std::array<Point, 3>& p, std:
     return;
   }
   for (int k = 0; k < 3; ++k) CornerPiece(p[k], p[(k + 1) % 3], p[(k + 2) % 3], area[k], weighted[k]);
-}
-
-template <class MeshType>
-vcg::Point3d CvtInitialization<MeshType>::CellCentroid(const VertexType& v) {
-  const Point p0 = Ops::ToPoint(v.cP());
-  if (v.cVFp() == nullptr) return p0;
-  double areaSum = 0;
-  Point weightedSum(0, 0, 0);
-  for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&v)); !it.End(); ++it) {
-    const int k = it.I();
-    double area;
-    Point weighted;
-    CornerPiece(p0, Ops::ToPoint(it.F()->cV((k + 1) % 3)->cP()), Ops::ToPoint(it.F()->cV((k + 2) % 3)->cP()), area,
-                weighted);
-    areaSum += area;
-    weightedSum += weighted;
-  }
-  if (!(areaSum > 0)) return p0;
-  return weightedSum / areaSum;
 }
 
 template <class MeshType>

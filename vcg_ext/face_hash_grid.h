@@ -69,20 +69,8 @@ public:
 
   void Insert(std::size_t f, const Box& box) {
     Resize(f + 1);
-    FaceEntry& e = faces_[f];
-    SetBox(e, box);
-    e.in = true;
-    RangeOf(box, e.range);
-    e.slotCount = (e.range[3] - e.range[0] + 1) * (e.range[4] - e.range[1] + 1) * (e.range[5] - e.range[2] + 1) <= kInlineSlots
-                      ? 0
-                      : kNoSlots;
-    for (int z = e.range[2]; z <= e.range[5]; ++z)
-      for (int y = e.range[1]; y <= e.range[4]; ++y)
-        for (int x = e.range[0]; x <= e.range[3]; ++x) {
-          const std::uint32_t slot = FindOrCreate(x, y, z);
-          cells_[slot].push_back(std::uint32_t(f));
-          if (e.slotCount != kNoSlots) e.cellSlots[e.slotCount++] = slot;
-        }
+    SetEntry(faces_[f], box);
+    LinkCells(f);
   }
 
   /// Inserts every face i < n for which boxOf(i, box) returns true (with its box) into an empty
@@ -105,28 +93,14 @@ public:
         FaceEntry& e = faces_[i];
         box.SetNull();
         if (!boxOf(i, box)) continue;
-        SetBox(e, box);
-        e.in = true;
-        RangeOf(box, e.range);
-        const std::uint32_t cells = std::uint32_t(e.range[3] - e.range[0] + 1) *
-                                    std::uint32_t(e.range[4] - e.range[1] + 1) *
-                                    std::uint32_t(e.range[5] - e.range[2] + 1);
-        e.slotCount = cells <= kInlineSlots ? 0 : kNoSlots;
-        start[i + 1] = cells;
+        start[i + 1] = SetEntry(e, box);
       }
     });
     for (std::size_t i = 0; i < n; ++i) start[i + 1] += start[i];
     const std::size_t blocks = (n + kInsertBlockFaces - 1) / kInsertBlockFaces;
     if (blocks <= 1) {
-      for (std::size_t i = 0; i < n; ++i) {
-        FaceEntry& e = faces_[i];
-        if (!e.in) continue;
-        ForEachCell(e.range, [&](int x, int y, int z) {
-          const std::uint32_t slot = FindOrCreate(x, y, z);
-          cells_[slot].push_back(std::uint32_t(i));
-          if (e.slotCount != kNoSlots) e.cellSlots[e.slotCount++] = slot;
-        });
-      }
+      for (std::size_t i = 0; i < n; ++i)
+        if (faces_[i].in) LinkCells(i);
       return;
     }
     // 1. Each block's cells, numbered in the block in order of first use, with their face counts;
@@ -221,9 +195,7 @@ public:
     if (e.slotCount != kNoSlots) {
       for (int i = 0; i < e.slotCount; ++i) erase(e.cellSlots[i]);
     } else {
-      for (int z = e.range[2]; z <= e.range[5]; ++z)
-        for (int y = e.range[1]; y <= e.range[4]; ++y)
-          for (int x = e.range[0]; x <= e.range[3]; ++x) erase(std::uint32_t(Find(Key(x, y, z))));
+      ForEachCell(e.range, [&](int x, int y, int z) { erase(std::uint32_t(Find(Key(x, y, z)))); });
     }
     e.in = false;
   }
@@ -333,6 +305,27 @@ private:
   };
 
   static void SetBox(FaceEntry& e, const Box& b) { e.box = FloatBox::Outward(b); }
+  /// Box, cell range and slot mode of a face entering the grid (not yet in any cell list).
+  /// Returns the number of cells of its range.
+  std::uint32_t SetEntry(FaceEntry& e, const Box& box) const {
+    SetBox(e, box);
+    e.in = true;
+    RangeOf(box, e.range);
+    const std::uint32_t cells = std::uint32_t(e.range[3] - e.range[0] + 1) *
+                                std::uint32_t(e.range[4] - e.range[1] + 1) *
+                                std::uint32_t(e.range[5] - e.range[2] + 1);
+    e.slotCount = cells <= kInlineSlots ? 0 : kNoSlots;
+    return cells;
+  }
+  /// Appends face f (its entry set) to the lists of the cells of its range, creating cells.
+  void LinkCells(std::size_t f) {
+    FaceEntry& e = faces_[f];
+    ForEachCell(e.range, [&](int x, int y, int z) {
+      const std::uint32_t slot = FindOrCreate(x, y, z);
+      cells_[slot].push_back(std::uint32_t(f));
+      if (e.slotCount != kNoSlots) e.cellSlots[e.slotCount++] = slot;
+    });
+  }
   static bool Touch(const FaceEntry& e, const Box& b) { return e.box.Touches(b); }
   int CellCoord(double x, int axis) const {
     const double c = std::floor((x - origin_[axis]) * inv_);

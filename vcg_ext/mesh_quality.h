@@ -550,7 +550,7 @@ struct IntersectingPair {
 ///
 /// Parallel on `threads` threads, yet deterministic: per-face data are computed into per-face
 /// arrays, cells are tested in parallel into per-thread lists of intersecting pairs, and the
-/// figures are counted from those lists. Every pair is tested exactly once whichever thread
+/// pairs are gathered from those lists. Every pair is tested exactly once whichever thread
 /// tests it, so the counts do not depend on the thread count.
 inline std::vector<IntersectingPair> FindSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
                                                            const std::vector<Point>& points,

@@ -90,24 +90,22 @@ inline Point ClosestPointOnTriangle(const Point& p, const Point& a, const Point&
   return a + ab * (vb * inv) + ac * (vc * inv);
 }
 
-/// Squared distance from p to the closed box b (0 inside).
-inline double SquaredDistanceToBox(const Point& p, const vcg::Box3d& b) {
+/// Squared distance from p to the closed box [lo, hi] (0 inside).
+template <class Corner>
+double SquaredDistanceToBox(const Point& p, const Corner& lo, const Corner& hi) {
   double d2 = 0;
   for (int k = 0; k < 3; ++k) {
-    const double d = std::max({b.min[k] - p[k], 0.0, p[k] - b.max[k]});
+    const double d = std::max({double(lo[k]) - p[k], 0.0, p[k] - double(hi[k])});
     d2 += d * d;
   }
   return d2;
 }
-
-/// The same for a float box (never larger than for the double box it was rounded outward from).
+inline double SquaredDistanceToBox(const Point& p, const vcg::Box3d& b) {
+  return SquaredDistanceToBox(p, b.min, b.max);
+}
+/// For a float box: never more than for the double box it was rounded outward from.
 inline double SquaredDistanceToBox(const Point& p, const FloatBox& b) {
-  double d2 = 0;
-  for (int k = 0; k < 3; ++k) {
-    const double d = std::max({double(b.lo[k]) - p[k], 0.0, p[k] - double(b.hi[k])});
-    d2 += d * d;
-  }
-  return d2;
+  return SquaredDistanceToBox(p, b.lo, b.hi);
 }
 
 } // namespace reference_detail

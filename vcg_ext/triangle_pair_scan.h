@@ -6,10 +6,11 @@
 // lowest corner (cells as large as the largest box, so touching boxes sit in the same or in
 // adjacent cells), copies what the box test reads (float boxes, vertex ids, moved flags) into
 // contiguous arrays in that order, and tests each cell against itself and its 13 "forward"
-// neighbours; the few pairs whose boxes touch read the full triangles where Build collected them. Only pairs
-// with at least one triangle flagged `moved` are tested; a pair is reported when
-// local_ops_detail::FacesIntersect says so (MeshQuality's predicates: no contact for faces sharing no vertex,
-// no contact beyond the shared corner for faces sharing one). Deterministic: the pairs come out sorted.
+// neighbours; the few pairs whose boxes touch read the full triangles where Build collected
+// them. Only pairs with at least one triangle flagged `moved` are tested; a pair is reported
+// when local_ops_detail::FacesIntersect says so (MeshQuality's predicates: no contact for faces
+// sharing no vertex, no contact beyond the shared corner for faces sharing one).
+// Deterministic: the pairs come out sorted.
 #pragma once
 
 #include <vcg/space/box3.h>
