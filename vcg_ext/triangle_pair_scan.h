@@ -2,14 +2,15 @@
 //
 // When most faces of a mesh have just moved (a Jacobi smoothing step), asking the dynamic grid
 // "what is near this face?" face by face costs a cache miss per candidate. TrianglePairScan
-// instead sorts the triangles along a Morton curve of the grid cell holding their bounding box's
-// lowest corner (cells as large as the largest box, so touching boxes sit in the same or in
-// adjacent cells), copies what the box test reads (float boxes, vertex ids, moved flags) into
+// instead sorts the triangles by the grid cell holding their bounding box's lowest corner, in
+// row-major order (cells as large as the largest box, so touching boxes sit in the same or in
+// adjacent cells), copies what the first tests read (float boxes, moved flags, vertex ids) into
 // contiguous arrays in that order, and tests each cell against itself and its 13 "forward"
-// neighbours; the few pairs whose boxes touch read the full triangles where Build collected
-// them. Only pairs with at least one triangle flagged `moved` are tested; a pair is reported
-// when local_ops_detail::FacesIntersect says so (MeshQuality's predicates: no contact for faces
-// sharing no vertex, no contact beyond the shared corner for faces sharing one).
+// neighbours, which lie in 5 runs of the arrays. Only pairs with at least one triangle flagged
+// `moved` are tested; the few pairs that pass the box test read the full triangles where Build
+// collected them, and a pair is reported when local_ops_detail::FacesIntersect says so
+// (MeshQuality's predicates: no contact for faces sharing no vertex, no contact beyond the
+// shared corner for faces sharing one).
 // Deterministic: the pairs come out sorted.
 #pragma once
 
@@ -25,6 +26,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -61,40 +63,25 @@ public:
 
 private:
   struct Cell {
-    std::uint64_t key;
+    std::uint64_t row;        // y + ny z
+    std::uint32_t x;          // cell coordinate along the row
     std::uint32_t begin, end; // run in the sorted arrays
   };
-  static std::uint64_t Spread(std::uint64_t x) { // 21 bits -> every third bit
-    x &= 0x1fffff;
-    x = (x | x << 32) & 0x1f00000000ffffULL;
-    x = (x | x << 16) & 0x1f0000ff0000ffULL;
-    x = (x | x << 8) & 0x100f00f00f00f00fULL;
-    x = (x | x << 4) & 0x10c30c30c30c30c3ULL;
-    x = (x | x << 2) & 0x1249249249249249ULL;
-    return x;
-  }
-  static std::uint32_t Compact(std::uint64_t x) { // every third bit -> 21 bits (Spread's inverse)
-    x &= 0x1249249249249249ULL;
-    x = (x ^ (x >> 2)) & 0x10c30c30c30c30c3ULL;
-    x = (x ^ (x >> 4)) & 0x100f00f00f00f00fULL;
-    x = (x ^ (x >> 8)) & 0x1f0000ff0000ffULL;
-    x = (x ^ (x >> 16)) & 0x1f00000000ffffULL;
-    x = (x ^ (x >> 32)) & 0x1fffff;
-    return std::uint32_t(x);
-  }
-  static std::uint64_t Key(std::uint32_t x, std::uint32_t y, std::uint32_t z) {
-    return Spread(x) | (Spread(y) << 1) | (Spread(z) << 2);
-  }
+  struct Row {
+    std::uint64_t id;
+    std::uint32_t first, last; // its cells, [first, last) in cells_
+  };
   static std::uint64_t Hash(std::uint64_t k) {
     k ^= k >> 33;
     k *= 0xff51afd7ed558ccdULL;
     k ^= k >> 33;
     return k;
   }
-  int FindCell(std::uint64_t key) const {
+  /// Index in rows_ of the row with this id, or -1.
+  int FindRow(std::uint64_t id) const {
     const std::size_t mask = tableKeys_.size() - 1;
-    for (std::size_t i = Hash(key) & mask;; i = (i + 1) & mask) {
-      if (tableKeys_[i] == key) return int(tableCells_[i]);
+    for (std::size_t i = Hash(id) & mask;; i = (i + 1) & mask) {
+      if (tableKeys_[i] == id) return int(tableRows_[i]);
       if (tableKeys_[i] == kEmpty) return -1;
     }
   }
@@ -102,17 +89,20 @@ private:
   static constexpr std::uint64_t kEmpty = std::numeric_limits<std::uint64_t>::max();
 
   std::vector<Triangle> input_;
-  std::vector<vcg::Box3d> inputBox_;
+  std::vector<FloatBox> inputBox_;
   std::vector<std::uint64_t> keys_;
   std::vector<std::uint32_t> order_, tmp_;
-  // Boxes (rounded outward to float) and moved flags of the sorted triangles, one array per
-  // bound, so that one triangle is tested against a run of others with vector instructions.
+  std::array<std::uint64_t, 3> dims_{}; // cells along x, y, z
+  // What the box test reads, for the sorted triangles, one array per field, so that one
+  // triangle is tested against a run of others with vector instructions: the boxes (rounded
+  // outward to float), the moved flags (0 or -1) and the vertex ids.
   std::array<std::vector<float>, 3> sortedLo_, sortedHi_;
-  std::vector<std::uint8_t> sortedMoved_;
-  std::vector<std::array<std::uint32_t, 3>> sortedIds_;
+  std::vector<std::int32_t> sortedMoved_;
+  std::array<std::vector<std::uint32_t>, 3> sortedIds_;
   std::vector<Cell> cells_;
+  std::vector<Row> rows_;
   std::vector<std::uint64_t> tableKeys_;
-  std::vector<std::uint32_t> tableCells_;
+  std::vector<std::uint32_t> tableRows_;
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> threadPairs_;
 };
 
@@ -128,45 +118,54 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
       t.live = false;
       t.moved = false;
       fill(i, t);
+      if (!t.live) continue;
       vcg::Box3d b;
-      if (t.live) {
-        for (int k = 0; k < 3; ++k) b.Add(t.p[k]);
-        const Point nn = (t.p[1] - t.p[0]) ^ (t.p[2] - t.p[0]);
-        const double len = nn.Norm();
-        t.n = len > 0 ? nn / len : Point(0, 0, 0);
-      }
-      inputBox_[i] = b;
+      for (int k = 0; k < 3; ++k) b.Add(t.p[k]);
+      const Point nn = (t.p[1] - t.p[0]) ^ (t.p[2] - t.p[0]);
+      const double len = nn.Norm();
+      t.n = len > 0 ? nn / len : Point(0, 0, 0);
+      inputBox_[i] = FloatBox::Outward(b);
     }
   });
   // Cell size: the largest box extent, so that touching boxes have min-corner cells at most
   // one apart on every axis.
-  vcg::Box3d all;
-  double extent = 0;
-  std::size_t live = 0;
+  std::array<float, 3> lo{}, hi{};
+  lo.fill(std::numeric_limits<float>::infinity());
+  hi.fill(-std::numeric_limits<float>::infinity());
+  float extent = 0;
+  order_.clear();
   for (std::size_t i = 0; i < n; ++i) {
     if (!input_[i].live) continue;
-    ++live;
-    all.Add(inputBox_[i]);
-    const Point d = inputBox_[i].Dim();
-    extent = std::max({extent, d[0], d[1], d[2]});
+    order_.push_back(std::uint32_t(i));
+    const FloatBox& b = inputBox_[i];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], b.lo[k]);
+      hi[k] = std::max(hi[k], b.hi[k]);
+      extent = std::max(extent, b.hi[k] - b.lo[k]);
+    }
   }
   cells_.clear();
-  order_.clear();
-  if (live == 0) return;
-  const Point dim = all.Dim();
-  double cell = extent * (1.0 + 1e-9) + 1e-300;
-  while (std::max({dim[0], dim[1], dim[2]}) / cell > double(0x1fffff - 2)) cell *= 2.0;
+  rows_.clear();
+  if (order_.empty()) return;
+  double span = 0;
+  for (int k = 0; k < 3; ++k) span = std::max(span, double(hi[k]) - double(lo[k]));
+  double cell = double(extent) * (1.0 + 1e-6) + 1e-30;
+  while (span / cell > double(0x1fffff - 2)) cell *= 2.0;
   const double inv = 1.0 / cell;
+  for (int k = 0; k < 3; ++k) dims_[k] = std::uint64_t((double(hi[k]) - double(lo[k])) * inv) + 1;
 
+  // Cells in row-major order (x fastest): the three cells x - 1 .. x + 1 of a row are
+  // contiguous, so a triangle meets each neighbouring row in one run.
   keys_.resize(n);
-  order_.clear();
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!input_[i].live) continue;
-    const vcg::Box3d& b = inputBox_[i];
-    keys_[i] = Key(std::uint32_t((b.min[0] - all.min[0]) * inv), std::uint32_t((b.min[1] - all.min[1]) * inv),
-                   std::uint32_t((b.min[2] - all.min[2]) * inv));
-    order_.push_back(std::uint32_t(i));
-  }
+  ParallelFor(order_.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::uint32_t i = order_[k];
+      std::array<std::uint64_t, 3> c{};
+      for (int a = 0; a < 3; ++a)
+        c[a] = std::min(dims_[a] - 1, std::uint64_t((double(inputBox_[i].lo[a]) - double(lo[a])) * inv));
+      keys_[i] = (c[2] * dims_[1] + c[1]) * dims_[0] + c[0];
+    }
+  });
   // LSD radix sort of the live indices by key (stable, so ties stay in index order).
   std::uint64_t maxKey = 0;
   for (const std::uint32_t i : order_) maxKey = std::max(maxKey, keys_[i]);
@@ -184,40 +183,44 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
     for (const std::uint32_t i : order_) tmp_[count[(keys_[i] >> shift) & 0xffff]++] = i;
     order_.swap(tmp_);
   }
-  // What the box test reads, contiguous in curve order, and the cells as runs.
   for (int a = 0; a < 3; ++a) {
     sortedLo_[a].resize(order_.size());
     sortedHi_[a].resize(order_.size());
+    sortedIds_[a].resize(order_.size());
   }
   sortedMoved_.resize(order_.size());
-  sortedIds_.resize(order_.size());
   ParallelFor(order_.size(), threads, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t k = begin; k < end; ++k) {
       const std::uint32_t i = order_[k];
-      const FloatBox box = FloatBox::Outward(inputBox_[i]);
+      const FloatBox& box = inputBox_[i];
       for (int a = 0; a < 3; ++a) {
         sortedLo_[a][k] = box.lo[a];
         sortedHi_[a][k] = box.hi[a];
+        sortedIds_[a][k] = input_[i].v[a];
       }
-      sortedMoved_[k] = input_[i].moved ? 1 : 0;
-      sortedIds_[k] = input_[i].v;
+      sortedMoved_[k] = input_[i].moved ? -1 : 0;
     }
   });
   for (std::size_t k = 0; k < order_.size();) {
     std::size_t e = k;
-    while (e < order_.size() && keys_[order_[e]] == keys_[order_[k]]) ++e;
-    cells_.push_back({keys_[order_[k]], std::uint32_t(k), std::uint32_t(e)});
+    const std::uint64_t key = keys_[order_[k]];
+    while (e < order_.size() && keys_[order_[e]] == key) ++e;
+    const std::uint64_t row = key / dims_[0];
+    if (rows_.empty() || rows_.back().id != row)
+      rows_.push_back({row, std::uint32_t(cells_.size()), std::uint32_t(cells_.size())});
+    cells_.push_back({row, std::uint32_t(key % dims_[0]), std::uint32_t(k), std::uint32_t(e)});
+    rows_.back().last = std::uint32_t(cells_.size());
     k = e;
   }
   std::size_t tableSize = 16;
-  while (tableSize < 2 * cells_.size()) tableSize *= 2;
+  while (tableSize < 2 * rows_.size()) tableSize *= 2;
   tableKeys_.assign(tableSize, kEmpty);
-  tableCells_.assign(tableSize, 0);
-  for (std::size_t c = 0; c < cells_.size(); ++c) {
-    std::size_t i = Hash(cells_[c].key) & (tableSize - 1);
+  tableRows_.assign(tableSize, 0);
+  for (std::size_t r = 0; r < rows_.size(); ++r) {
+    std::size_t i = Hash(rows_[r].id) & (tableSize - 1);
     while (tableKeys_[i] != kEmpty) i = (i + 1) & (tableSize - 1);
-    tableKeys_[i] = cells_[c].key;
-    tableCells_[i] = std::uint32_t(c);
+    tableKeys_[i] = rows_[r].id;
+    tableRows_[i] = std::uint32_t(r);
   }
 }
 
@@ -229,68 +232,95 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
   const int nThreads = ResolveThreadCount(threads);
   threadPairs_.resize(nThreads);
   for (auto& v : threadPairs_) v.clear();
-  // The 13 neighbour offsets with (dz, dy, dx) lexicographically positive: each pair of
-  // neighbouring cells is visited once, from its lower cell.
-  std::array<std::array<int, 3>, 13> offsets{};
-  int count = 0;
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-        if (dz > 0 || (dz == 0 && (dy > 0 || (dy == 0 && dx > 0)))) offsets[count++] = {dx, dy, dz};
+  if (cells_.empty()) return;
+  const std::uint64_t ny = dims_[1], nz = dims_[2];
   ParallelFor(cells_.size(), nThreads, [&](std::size_t begin, std::size_t end, int t) {
     auto& pairs = threadPairs_[t];
     const float *lx = sortedLo_[0].data(), *ly = sortedLo_[1].data(), *lz = sortedLo_[2].data();
     const float *hx = sortedHi_[0].data(), *hy = sortedHi_[1].data(), *hz = sortedHi_[2].data();
-    const std::uint8_t* moved = sortedMoved_.data();
-    // Boxes touching and one of the two moved: the exact tests.
-    auto test = [&](std::uint32_t a, std::uint32_t b) {
-      if (skipSharedVertex) {
-        const std::array<std::uint32_t, 3>&ia = sortedIds_[a], &ib = sortedIds_[b];
-        for (const std::uint32_t x : ia)
-          if (x == ib[0] || x == ib[1] || x == ib[2]) return;
-      }
-      const std::uint32_t i = order_[a], j = order_[b];
-      if (intersect(input_[i], input_[j])) {
-        pairs.emplace_back(std::min(i, j), std::max(i, j));
-      }
-    };
-    // Triangle a against the run [b0, b1): the box tests of a block of the run go into a mask
-    // in one branch-free loop (all 32-bit lanes, so it vectorizes), then the few hits are tested.
-    auto testRun = [&](std::uint32_t a, std::uint32_t b0, std::uint32_t b1) {
+    const std::int32_t* moved = sortedMoved_.data();
+    const std::uint32_t *v0 = sortedIds_[0].data(), *v1 = sortedIds_[1].data(), *v2 = sortedIds_[2].data();
+    // Triangle a against the run [b0, b1): the tests of a block of the run (boxes touching, one
+    // of the two moved, and with skipShared no common vertex) go into a mask in one branch-free
+    // loop over 32-bit lanes, so it vectorizes; then the few hits get the exact test.
+    auto testRun = [&](std::uint32_t a, std::uint32_t b0, std::uint32_t b1, auto skipShared) {
       constexpr std::uint32_t kBlock = 32;
       const float alx = lx[a], aly = ly[a], alz = lz[a], ahx = hx[a], ahy = hy[a], ahz = hz[a];
-      const bool aMoved = moved[a] != 0;
+      const std::int32_t aMoved = moved[a];
+      const std::uint32_t a0 = v0[a], a1 = v1[a], a2 = v2[a];
       std::array<std::int32_t, kBlock> hit;
       for (std::uint32_t start = b0; start < b1; start += kBlock) {
         const std::uint32_t n = std::min(kBlock, b1 - start);
         for (std::uint32_t j = 0; j < n; ++j) {
           const std::uint32_t b = start + j;
-          std::int32_t touch = -std::int32_t(alx <= hx[b]);
-          touch &= -std::int32_t(lx[b] <= ahx);
-          touch &= -std::int32_t(aly <= hy[b]);
-          touch &= -std::int32_t(ly[b] <= ahy);
-          touch &= -std::int32_t(alz <= hz[b]);
-          touch &= -std::int32_t(lz[b] <= ahz);
-          hit[j] = touch;
+          std::int32_t pass = -std::int32_t(alx <= hx[b]);
+          pass &= -std::int32_t(lx[b] <= ahx);
+          pass &= -std::int32_t(aly <= hy[b]);
+          pass &= -std::int32_t(ly[b] <= ahy);
+          pass &= -std::int32_t(alz <= hz[b]);
+          pass &= -std::int32_t(lz[b] <= ahz);
+          pass &= aMoved | moved[b];
+          if constexpr (decltype(skipShared)::value) {
+            const std::uint32_t b0v = v0[b], b1v = v1[b], b2v = v2[b];
+            const std::int32_t shared =
+                std::int32_t(a0 == b0v) | std::int32_t(a0 == b1v) | std::int32_t(a0 == b2v) |
+                std::int32_t(a1 == b0v) | std::int32_t(a1 == b1v) | std::int32_t(a1 == b2v) |
+                std::int32_t(a2 == b0v) | std::int32_t(a2 == b1v) | std::int32_t(a2 == b2v);
+            pass &= shared - 1;
+          }
+          hit[j] = pass;
         }
-        for (std::uint32_t j = 0; j < n; ++j)
-          if (hit[j] != 0 && (aMoved || moved[start + j] != 0)) test(a, start + j);
+        for (std::uint32_t j = 0; j < n; ++j) {
+          if (hit[j] == 0) continue;
+          const std::uint32_t i = order_[a], k = order_[start + j];
+          if (intersect(input_[i], input_[k])) pairs.emplace_back(std::min(i, k), std::max(i, k));
+        }
       }
     };
-    for (std::size_t c = begin; c < end; ++c) {
-      const Cell& cell = cells_[c];
-      for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, a + 1, cell.end);
-      const std::array<std::uint32_t, 3> xyz{Compact(cell.key), Compact(cell.key >> 1),
-                                             Compact(cell.key >> 2)};
-      for (const auto& o : offsets) {
-        const long x = long(xyz[0]) + o[0], y = long(xyz[1]) + o[1], z = long(xyz[2]) + o[2];
-        if (x < 0 || y < 0 || z < 0) continue;
-        const int other = FindCell(Key(std::uint32_t(x), std::uint32_t(y), std::uint32_t(z)));
-        if (other < 0) continue;
-        const Cell& oc = cells_[other];
-        for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, oc.begin, oc.end);
+    // Each pair of neighbouring cells is visited once, from the lower one in (z, y, x) order: a
+    // cell meets itself and the next cell of its row, and the cells x - 1 .. x + 1 of the rows
+    // (y + 1, z), (y - 1, z + 1), (y, z + 1) and (y + 1, z + 1). Cells are handled in row order,
+    // so each neighbouring row is walked with a cursor that only moves forward.
+    std::array<std::uint32_t, 4> cursor{}, last{};
+    std::uint64_t currentRow = kEmpty;
+    auto visit = [&](auto skipShared) {
+      for (std::size_t c = begin; c < end; ++c) {
+        const Cell& cell = cells_[c];
+        if (cell.row != currentRow) {
+          currentRow = cell.row;
+          const std::uint64_t y = cell.row % ny, z = cell.row / ny;
+          const std::array<std::array<std::int64_t, 2>, 4> near{{{std::int64_t(y) + 1, std::int64_t(z)},
+                                                                 {std::int64_t(y) - 1, std::int64_t(z) + 1},
+                                                                 {std::int64_t(y), std::int64_t(z) + 1},
+                                                                 {std::int64_t(y) + 1, std::int64_t(z) + 1}}};
+          for (int r = 0; r < 4; ++r) {
+            cursor[r] = last[r] = 0;
+            const auto [ry, rz] = near[r];
+            if (ry < 0 || ry >= std::int64_t(ny) || rz >= std::int64_t(nz)) continue;
+            const int found = FindRow(std::uint64_t(ry) + ny * std::uint64_t(rz));
+            if (found < 0) continue;
+            cursor[r] = rows_[found].first;
+            last[r] = rows_[found].last;
+          }
+        }
+        std::uint32_t ownEnd = cell.end;
+        if (c + 1 < cells_.size() && cells_[c + 1].row == cell.row && cells_[c + 1].x == cell.x + 1)
+          ownEnd = cells_[c + 1].end;
+        for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, a + 1, ownEnd, skipShared);
+        for (int r = 0; r < 4; ++r) {
+          while (cursor[r] < last[r] && std::uint64_t(cells_[cursor[r]].x) + 1 < cell.x) ++cursor[r];
+          std::uint32_t stop = cursor[r];
+          while (stop < last[r] && cells_[stop].x <= std::uint64_t(cell.x) + 1) ++stop;
+          if (stop == cursor[r]) continue;
+          const std::uint32_t runBegin = cells_[cursor[r]].begin, runEnd = cells_[stop - 1].end;
+          for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, runBegin, runEnd, skipShared);
+        }
       }
-    }
+    };
+    if (skipSharedVertex)
+      visit(std::true_type());
+    else
+      visit(std::false_type());
   }, 64);
   for (const auto& v : threadPairs_) out.insert(out.end(), v.begin(), v.end());
   std::sort(out.begin(), out.end());
