@@ -3,11 +3,15 @@
 // the sorting and the thread count, or an intersection would slip through.
 #include <gtest/gtest.h>
 
+#include <vcg_ext/float_box.h>
 #include <vcg_ext/triangle_pair_scan.h>
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <random>
 #include <utility>
 #include <vector>
@@ -74,27 +78,20 @@ bool ShareVertex(const std::array<std::uint32_t, 3>& a, const std::array<std::ui
 PairList ScanPairs(const Soup& s, int threads, bool skipShared) {
   TrianglePairScan scan;
   scan.Build(
-      s.faces.size(),
+      s.faces.size(), s.vertices.data(),
       [&](std::size_t i, TrianglePairScan::Triangle& t) {
         if (!s.live[i]) return;
         t.live = true;
         t.moved = s.moved[i];
-        for (int k = 0; k < 3; ++k) {
-          t.v[k] = s.faces[i][k];
-          t.p[k] = s.vertices[s.faces[i][k]];
-        }
+        t.v = s.faces[i];
       },
       threads);
   PairList pairs;
   scan.FindPairs(
       threads,
-      [](const TrianglePairScan::Triangle& a, const TrianglePairScan::Triangle& b) {
-        vcg::Box3d ba, bb;
-        for (int k = 0; k < 3; ++k) {
-          ba.Add(a.p[k]);
-          bb.Add(b.p[k]);
-        }
-        return Touch(ba, bb);
+      [&](std::uint32_t a, std::uint32_t b) {
+        EXPECT_EQ(scan.Corners(a)[1], s.vertices[s.faces[a][1]]);
+        return Touch(BoxOf(s, a), BoxOf(s, b));
       },
       pairs, skipShared);
   return pairs;
@@ -132,6 +129,52 @@ TEST(TrianglePairScan, NoLiveTriangleGivesNoPair) {
   Soup soup = RandomSoup(4, 50, 100);
   std::fill(soup.live.begin(), soup.live.end(), false);
   EXPECT_TRUE(ScanPairs(soup, 2, true).empty());
+}
+
+} // namespace
+
+namespace {
+
+// The boxes of the scan and of the grids are rounded outward by an inline next-float step: it
+// must be std::nextafter's, or a box could shrink below the true one and lose a pair.
+TEST(FloatBox, OutwardStepsAreNextafter) {
+  using molremesh::FloatBox;
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<float> values{0.0f,
+                            -0.0f,
+                            std::numeric_limits<float>::denorm_min(),
+                            -std::numeric_limits<float>::denorm_min(),
+                            std::numeric_limits<float>::min(),
+                            -std::numeric_limits<float>::min(),
+                            std::numeric_limits<float>::max(),
+                            -std::numeric_limits<float>::max(),
+                            inf,
+                            -inf,
+                            1.0f,
+                            -1.0f};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> exponent(-40.0, 38.0), sign(-1.0, 1.0);
+  for (int i = 0; i < 100000; ++i)
+    values.push_back(float((sign(rng) < 0 ? -1.0 : 1.0) * std::pow(10.0, exponent(rng))));
+  for (const float x : values) {
+    const float down = FloatBox::NextDown(x), up = FloatBox::NextUp(x);
+    const float wantDown = std::nextafter(x, -inf), wantUp = std::nextafter(x, inf);
+    EXPECT_EQ(std::memcmp(&down, &wantDown, sizeof down), 0) << x;
+    EXPECT_EQ(std::memcmp(&up, &wantUp, sizeof up), 0) << x;
+  }
+  // And a box rounded outward contains the double box.
+  std::uniform_real_distribution<double> coord(-1e3, 1e3);
+  for (int i = 0; i < 10000; ++i) {
+    const vcg::Point3d a(coord(rng), coord(rng), coord(rng)), b(coord(rng), coord(rng), coord(rng));
+    vcg::Box3d box;
+    box.Add(a);
+    box.Add(b);
+    const FloatBox f = FloatBox::Outward(box);
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_LE(double(f.lo[k]), box.min[k]);
+      EXPECT_GE(double(f.hi[k]), box.max[k]);
+    }
+  }
 }
 
 } // namespace

@@ -10,6 +10,8 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 namespace molremesh {
@@ -21,13 +23,25 @@ struct FloatBox {
     FloatBox r;
     for (int k = 0; k < 3; ++k) {
       float lo = float(b.min[k]), hi = float(b.max[k]);
-      if (double(lo) > b.min[k]) lo = std::nextafter(lo, -std::numeric_limits<float>::infinity());
-      if (double(hi) < b.max[k]) hi = std::nextafter(hi, std::numeric_limits<float>::infinity());
+      if (double(lo) > b.min[k]) lo = NextDown(lo);
+      if (double(hi) < b.max[k]) hi = NextUp(hi);
       r.lo[k] = lo;
       r.hi[k] = hi;
     }
     return r;
   }
+  /// std::nextafter(x, -inf) and std::nextafter(x, +inf) for a non-NaN x, inline: the grids
+  /// round millions of boxes per pass, and the library call dominated that.
+  static float NextDown(float x) {
+    if (x == 0.0f) return -std::numeric_limits<float>::denorm_min();
+    if (x == -std::numeric_limits<float>::infinity()) return x;
+    std::uint32_t bits;
+    std::memcpy(&bits, &x, sizeof bits);
+    bits = x > 0.0f ? bits - 1 : bits + 1;
+    std::memcpy(&x, &bits, sizeof bits);
+    return x;
+  }
+  static float NextUp(float x) { return -NextDown(-x); }
   bool Touches(const FloatBox& o) const {
     return lo[0] <= o.hi[0] && o.lo[0] <= hi[0] && lo[1] <= o.hi[1] && o.lo[1] <= hi[1] && lo[2] <= o.hi[2] &&
            o.lo[2] <= hi[2];

@@ -514,6 +514,7 @@ private:
   FaceVerdict VerifyBatchFace(std::size_t fi, FaceHashGrid::QueryMarks& marks, bool intersections,
                               const TrianglePairScan* scan = nullptr) const;
   TrianglePairScan scan_;
+  std::vector<Point> scanPositions_; ///< vertex positions for scan_ (by vertex index)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> scanPairs_;
   std::vector<int> batchIndex_; ///< per vertex: entry in batch_, or -1
   std::vector<BatchEntry> batch_;
@@ -1121,7 +1122,8 @@ void LocalRemeshingOps<MeshType>::StarPairs(
       for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&v)); !it.End(); ++it) {
         const int k = it.I();
         star.push_back(std::uint32_t(FIndex(*it.F())));
-        link.emplace_back(Pos(it.F()->cV((k + 1) % 3)), Pos(it.F()->cV((k + 2) % 3)));
+        // The corners as the scan collected them: no vertex record to read.
+        link.emplace_back(scan.Corner(star.back(), (k + 1) % 3), scan.Corner(star.back(), (k + 2) % 3));
         if (IsBorder(*it.F(), k) || IsBorder(*it.F(), (k + 2) % 3)) boundary = true;
         if (scan.Input(star.back()).moved) moved = true;
       }
@@ -1135,7 +1137,9 @@ void LocalRemeshingOps<MeshType>::StarPairs(
           for (int x = 0; x < 3; ++x)
             for (int y = 0; y < 3; ++y) shared += a.v[x] == b.v[y] ? 1 : 0;
           if (shared != 1) continue;
-          if (!local_ops_detail::FacesIntersect(a.p, a.n, a.v, b.p, b.n, b.v, margin_)) continue;
+          if (!local_ops_detail::FacesIntersect(scan.Corners(star[i]), scan.Normal(star[i]), a.v,
+                                                scan.Corners(star[j]), scan.Normal(star[j]), b.v, margin_))
+            continue;
           found[std::size_t(t)].emplace_back(std::min(star[i], star[j]), std::max(star[i], star[j]));
         }
     }
@@ -1209,7 +1213,7 @@ LocalRemeshingOps<MeshType>::VerifyBatchFace(std::size_t fi, FaceHashGrid::Query
     oldFeet[k] = OldFoot(v[k]);
   }
   const bool moved = scan ? scan->Input(fi).moved : MovedInBatch(f);
-  const Point n = scan ? scan->Input(fi).n : UnitNormal(p);
+  const Point n = scan ? scan->Normal(fi) : UnitNormal(p);
   auto fail = [&](int partner) {
     verdict.fail = true;
     verdict.partner = partner;
@@ -1242,7 +1246,7 @@ LocalRemeshingOps<MeshType>::VerifyBatchFace(std::size_t fi, FaceHashGrid::Query
     if (!moved && !(scan ? scan->Input(gi).moved : MovedInBatch(*g))) continue;
     Point ng;
     if (scan) {
-      ng = scan->Input(gi).n;
+      ng = scan->Normal(gi);
     } else {
       std::array<Point, 3> q;
       for (int k = 0; k < 3; ++k) q[k] = Pos(g->cV(k));
@@ -1359,17 +1363,18 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
     scanPairs_.clear();
     // The sweep's scan is built first: the per-face guards read its normals and moved flags.
     if (sweep) {
+      scanPositions_.resize(m_.vert.size());
+      ParallelFor(m_.vert.size(), nThreads, [&](std::size_t begin, std::size_t end, int) {
+        for (std::size_t vi = begin; vi < end; ++vi) scanPositions_[vi] = Pos(&m_.vert[vi]);
+      });
       scan_.Build(
-          m_.face.size(),
+          m_.face.size(), scanPositions_.data(),
           [&](std::size_t fi, TrianglePairScan::Triangle& t) {
             const FaceType& f = m_.face[fi];
             if (f.IsD()) return;
             t.live = true;
             t.moved = MovedInBatch(f);
-            for (int k = 0; k < 3; ++k) {
-              t.p[k] = Pos(f.cV(k));
-              t.v[k] = std::uint32_t(VIndex(*f.cV(k)));
-            }
+            for (int k = 0; k < 3; ++k) t.v[k] = std::uint32_t(VIndex(*f.cV(k)));
           },
           nThreads);
     }
@@ -1387,8 +1392,10 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
       // is a simple fan, which nearly every star is.
       scan_.FindPairs(
           nThreads,
-          [&](const TrianglePairScan::Triangle& a, const TrianglePairScan::Triangle& b) {
-            return local_ops_detail::FacesIntersect(a.p, a.n, a.v, b.p, b.n, b.v, margin_);
+          [&](std::uint32_t a, std::uint32_t b) {
+            return local_ops_detail::FacesIntersect(scan_.Corners(a), scan_.Normal(a), scan_.Input(a).v,
+                                                    scan_.Corners(b), scan_.Normal(b), scan_.Input(b).v,
+                                                    margin_);
           },
           scanPairs_, /*skipSharedVertex=*/true);
       StarPairs(scan_, nThreads, scanPairs_);

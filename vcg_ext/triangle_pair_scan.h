@@ -7,10 +7,8 @@
 // adjacent cells), copies what the first tests read (float boxes, moved flags, vertex ids) into
 // contiguous arrays in that order, and tests each cell against itself and its 13 "forward"
 // neighbours, which lie in 5 runs of the arrays. Only pairs with at least one triangle flagged
-// `moved` are tested; the few pairs that pass the box test read the full triangles where Build
-// collected them, and a pair is reported when local_ops_detail::FacesIntersect says so
-// (MeshQuality's predicates: no contact for faces sharing no vertex, no contact beyond the
-// shared corner for faces sharing one).
+// `moved` are tested, and the few pairs that pass the box test go to the caller's exact test
+// (the remeshing stages use local_ops_detail::FacesIntersect, MeshQuality's predicates).
 // Deterministic: the pairs come out sorted.
 #pragma once
 
@@ -36,27 +34,35 @@ class TrianglePairScan {
 public:
   using Point = vcg::Point3d;
 
-  /// Triangle i as the caller describes it to Build.
+  /// Triangle i as the caller describes it to Build: its corners are vertices of the position
+  /// array given to Build (which must outlive the scan's use).
   struct Triangle {
-    std::array<Point, 3> p;          ///< corners
-    std::array<std::uint32_t, 3> v;  ///< vertex ids (shared corners are recognised by id)
-    Point n;                         ///< unit normal (filled by Build)
-    bool live = false;               ///< false: ignored
-    bool moved = false;              ///< pairs of two unmoved triangles are not tested
+    std::array<std::uint32_t, 3> v{}; ///< vertex ids (shared corners are recognised by id)
+    bool live = false;                ///< false: ignored
+    bool moved = false;               ///< pairs of two unmoved triangles are not tested
   };
 
-  /// Collects n triangles through fill(i, Triangle&) (called in parallel, once per i) and
-  /// sorts them into cells.
+  /// Collects n triangles through fill(i, Triangle&) (called in parallel, once per i), their
+  /// corners in `positions`, and sorts them into cells. The records stay small (ids and flags;
+  /// normals apart), so that the passes reading them run from cache.
   template <class Fill>
-  void Build(std::size_t n, Fill&& fill, int threads);
+  void Build(std::size_t n, const Point* positions, Fill&& fill, int threads);
 
-  /// Triangle i as Build collected it, its unit normal included.
+  /// Triangle i as Build collected it.
   const Triangle& Input(std::size_t i) const { return input_[i]; }
+  /// Its unit normal (zero when degenerate).
+  const Point& Normal(std::size_t i) const { return normal_[i]; }
+  /// Its corners.
+  std::array<Point, 3> Corners(std::size_t i) const {
+    const Triangle& t = input_[i];
+    return {positions_[t.v[0]], positions_[t.v[1]], positions_[t.v[2]]};
+  }
+  const Point& Corner(std::size_t i, int k) const { return positions_[input_[i].v[k]]; }
 
   /// Pairs (i, j), i < j (indices as given to Build), that intersect and involve a moved triangle.
-  /// intersect(a, b) decides a candidate pair (boxes touching) from two Triangles. With
-  /// skipSharedVertex, pairs with a common vertex id are never tested (the caller settles them
-  /// star by star, where most are settled at once).
+  /// intersect(i, j) decides a candidate pair (boxes touching). With skipSharedVertex, pairs with
+  /// a common vertex id are never tested (the caller settles them star by star, where most are
+  /// settled at once).
   template <class Intersect>
   void FindPairs(int threads, Intersect&& intersect,
                  std::vector<std::pair<std::uint32_t, std::uint32_t>>& out, bool skipSharedVertex = false);
@@ -88,7 +94,9 @@ private:
 
   static constexpr std::uint64_t kEmpty = std::numeric_limits<std::uint64_t>::max();
 
+  const Point* positions_ = nullptr;
   std::vector<Triangle> input_;
+  std::vector<Point> normal_;
   std::vector<FloatBox> inputBox_;
   std::vector<std::uint64_t> keys_;
   std::vector<std::uint32_t> order_, tmp_;
@@ -109,8 +117,10 @@ private:
 // ------------------------------------------------------------------------------------------------
 
 template <class Fill>
-void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
+void TrianglePairScan::Build(std::size_t n, const Point* positions, Fill&& fill, int threads) {
+  positions_ = positions;
   input_.resize(n);
+  normal_.resize(n);
   inputBox_.resize(n);
   ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t i = begin; i < end; ++i) {
@@ -119,11 +129,12 @@ void TrianglePairScan::Build(std::size_t n, Fill&& fill, int threads) {
       t.moved = false;
       fill(i, t);
       if (!t.live) continue;
+      const std::array<Point, 3> p = Corners(i);
       vcg::Box3d b;
-      for (int k = 0; k < 3; ++k) b.Add(t.p[k]);
-      const Point nn = (t.p[1] - t.p[0]) ^ (t.p[2] - t.p[0]);
+      for (int k = 0; k < 3; ++k) b.Add(p[k]);
+      const Point nn = (p[1] - p[0]) ^ (p[2] - p[0]);
       const double len = nn.Norm();
-      t.n = len > 0 ? nn / len : Point(0, 0, 0);
+      normal_[i] = len > 0 ? nn / len : Point(0, 0, 0);
       inputBox_[i] = FloatBox::Outward(b);
     }
   });
@@ -273,7 +284,7 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
         for (std::uint32_t j = 0; j < n; ++j) {
           if (hit[j] == 0) continue;
           const std::uint32_t i = order_[a], k = order_[start + j];
-          if (intersect(input_[i], input_[k])) pairs.emplace_back(std::min(i, k), std::max(i, k));
+          if (intersect(i, k)) pairs.emplace_back(std::min(i, k), std::max(i, k));
         }
       }
     };
