@@ -85,7 +85,7 @@ public:
     double maxFlipsPerVertex = 2.0;    ///< bound on the flips of one Delaunay restoration, per vertex
     double minMoveFactor = 1e-6;       ///< Lloyd moves shorter than this x L (along the input's tangent plane)
                                        ///< are skipped: the site has converged (no projection, no move)
-    int verifyEvery = 4;               ///< Lloyd iterations between two verifications + Delaunay flip passes
+    int verifyEvery = 6;               ///< Lloyd iterations between two verifications + Delaunay flip passes
                                        ///< (the first two and the last iteration are always verified)
     int threads = 0;                   ///< worker threads; 0 = all cores (the result does not depend on it)
     LocalOpsGuards guards;             ///< thresholds of the local operations
