@@ -86,7 +86,8 @@ public:
     double minMoveFactor = 1e-6;       ///< Lloyd moves shorter than this x L (along the input's tangent plane)
                                        ///< are skipped: the site has converged (no projection, no move)
     int verifyEvery = 6;               ///< Lloyd iterations between two verifications + Delaunay flip passes
-                                       ///< (the first two and the last iteration are always verified)
+                                       ///< (the first two and the last iteration are always verified; after
+                                       ///< the first few, most sites move less than 0.01 L per iteration)
     int threads = 0;                   ///< worker threads; 0 = all cores (the result does not depend on it)
     LocalOpsGuards guards;             ///< thresholds of the local operations
     bool preserveVolume = true;        ///< finally offset each closed component along its vertex normals so
@@ -541,6 +542,8 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   std::vector<int> targetFoot;
   std::vector<double> moveLength, cellArea;
   std::vector<Point> cellWeighted;
+  std::vector<std::vector<std::array<std::uint32_t, 3>>> ownerFaces; // corners of the faces each owner sums
+  std::size_t ownerFacesTopology = 0, ownerFacesVertices = 0;        // edit count and vertex count when made
   const double minMove2 = params.minMoveFactor * L * params.minMoveFactor * L;
   std::size_t applied = 0, rejected = 0;
   for (int it = 0; it < params.iterations; ++it) {
@@ -550,32 +553,53 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
     result.secondsSampling += since(phase);
     phase = now();
 
-    // Cell centroids, accumulated face by face: every thread reads all faces and sums into the
-    // vertices it owns, so each vertex's sum runs in face order whatever the thread count.
+    // Cell centroids, accumulated face by face: each thread owns a range of vertices and sums,
+    // in face order, the faces with a corner it owns, so each vertex's sum runs in face order
+    // whatever the thread count. The owners' face lists (with the corners, compact) are made
+    // again only when the connectivity changed (splits, collapses and flips), not per iteration.
     const std::size_t nv = m.vert.size();
     position.resize(nv);
     ParallelFor(nv, threads, [&](std::size_t begin, std::size_t end, int) {
       for (std::size_t i = begin; i < end; ++i) position[i] = Ops::ToPoint(m.vert[i].cP());
     });
+    const std::size_t owners = std::size_t(threads);
+    const std::size_t topologyNow = ops.Stats().splits + ops.Stats().collapses + ops.Stats().flips;
+    if (ownerFaces.empty() || topologyNow != ownerFacesTopology || ownerFacesVertices != nv) {
+      ownerFaces.resize(owners);
+      ParallelFor(
+          owners, threads,
+          [&](std::size_t begin, std::size_t end, int) {
+            for (std::size_t owner = begin; owner < end; ++owner) {
+              const std::uint32_t lo = std::uint32_t(nv * owner / owners),
+                                  hi = std::uint32_t(nv * (owner + 1) / owners);
+              std::vector<std::array<std::uint32_t, 3>>& list = ownerFaces[owner];
+              list.clear();
+              for (const FaceType& f : m.face) {
+                if (f.IsD()) continue;
+                const std::array<std::uint32_t, 3> vi{std::uint32_t(vcg::tri::Index(m, f.cV(0))),
+                                                      std::uint32_t(vcg::tri::Index(m, f.cV(1))),
+                                                      std::uint32_t(vcg::tri::Index(m, f.cV(2)))};
+                if ((vi[0] >= lo && vi[0] < hi) || (vi[1] >= lo && vi[1] < hi) || (vi[2] >= lo && vi[2] < hi))
+                  list.push_back(vi);
+              }
+            }
+          },
+          1);
+      ownerFacesTopology = topologyNow;
+      ownerFacesVertices = nv;
+    }
     cellArea.assign(nv, 0.0);
     cellWeighted.assign(nv, Point(0, 0, 0));
-    const std::size_t owners = std::size_t(threads);
     ParallelFor(owners, threads, [&](std::size_t begin, std::size_t end, int) {
       for (std::size_t owner = begin; owner < end; ++owner) {
-        const std::size_t lo = nv * owner / owners, hi = nv * (owner + 1) / owners;
-        for (const FaceType& f : m.face) {
-          if (f.IsD()) continue;
-          const std::array<std::size_t, 3> vi{std::size_t(vcg::tri::Index(m, f.cV(0))),
-                                              std::size_t(vcg::tri::Index(m, f.cV(1))),
-                                              std::size_t(vcg::tri::Index(m, f.cV(2)))};
-          const std::array<bool, 3> owned{vi[0] >= lo && vi[0] < hi, vi[1] >= lo && vi[1] < hi,
-                                          vi[2] >= lo && vi[2] < hi};
-          if (!owned[0] && !owned[1] && !owned[2]) continue;
+        const std::uint32_t lo = std::uint32_t(nv * owner / owners),
+                            hi = std::uint32_t(nv * (owner + 1) / owners);
+        for (const std::array<std::uint32_t, 3>& vi : ownerFaces[owner]) {
           std::array<double, 3> area;
           std::array<Point, 3> weighted;
           FacePieces({position[vi[0]], position[vi[1]], position[vi[2]]}, area, weighted);
           for (int k = 0; k < 3; ++k) {
-            if (!owned[k]) continue;
+            if (vi[k] < lo || vi[k] >= hi) continue;
             cellArea[vi[k]] += area[k];
             cellWeighted[vi[k]] += weighted[k];
           }
