@@ -281,6 +281,8 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
   const auto* vertBegin = m.vert.empty() ? nullptr : &m.vert[0];
   std::vector<std::array<std::uint32_t, 3>> tris;
   tris.reserve(m.face.size());
+  faces_.reserve(m.face.size()); // face records are large: growing by copies cost more than the fill
+  sourceFace_.reserve(m.face.size());
   double edgeSum = 0;
   std::size_t edgeCount = 0;
   for (std::size_t i = 0; i < m.face.size(); ++i) {
