@@ -1217,7 +1217,7 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
     }
     if (tris.empty()) break;
     TriangleGrid grid;
-    grid.Build(std::move(points), std::move(tris));
+    grid.Build(std::move(points), std::move(tris), threads);
     std::vector<TriangleGrid::QueryScratch> scratch(static_cast<std::size_t>(threads));
     ParallelFor(measure.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
       for (std::size_t k = begin; k < end; ++k) {

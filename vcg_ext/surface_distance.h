@@ -25,6 +25,8 @@
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -146,58 +148,78 @@ public:
     Point closest{0, 0, 0};
   };
 
-  /// Builds the grid over tris (indices into points; every corner must be finite).
-  void Build(std::vector<Point> points, std::vector<std::array<Index, 3>> tris) {
+  /// Builds the grid over tris (indices into points; every corner must be finite), the per-face
+  /// work on `threads` threads (the grid is the same for any count).
+  void Build(std::vector<Point> points, std::vector<std::array<Index, 3>> tris, int threads = 1) {
     points_ = std::move(points);
     tris_ = std::move(tris);
     cellStart_.clear();
     cellFaces_.clear();
     if (tris_.empty()) return;
+    const std::size_t n = tris_.size();
+    threads = ResolveThreadCount(threads);
 
-    vcg::Box3d box;
-    double edgeSum = 0;
-    for (const auto& t : tris_)
-      for (int i = 0; i < 3; ++i) {
-        box.Add(points_[t[i]]);
-        edgeSum += (points_[t[i]] - points_[t[(i + 1) % 3]]).Norm();
+    // Bounding box (a min / max: the same for any split) and the side lengths, summed in face
+    // order afterwards so that the mean edge, hence the cell size, never depends on the threads.
+    std::vector<double> sides(3 * n);
+    std::vector<vcg::Box3d> boxes(static_cast<std::size_t>(threads));
+    ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int t) {
+      for (std::size_t f = begin; f < end; ++f) {
+        const auto& tri = tris_[f];
+        for (int i = 0; i < 3; ++i) {
+          boxes[std::size_t(t)].Add(points_[tri[i]]);
+          sides[3 * f + std::size_t(i)] = (points_[tri[i]] - points_[tri[(i + 1) % 3]]).Norm();
+        }
       }
-    const double meanEdge = edgeSum / (3.0 * double(tris_.size()));
+    });
+    vcg::Box3d box;
+    for (const vcg::Box3d& b : boxes)
+      if (!b.IsNull()) box.Add(b);
+    double edgeSum = 0;
+    for (const double side : sides) edgeSum += side;
+    const double meanEdge = edgeSum / (3.0 * double(n));
     const double diag = box.Diag();
     // Cells about twice the mean edge long hold a handful of faces each on a surface; fewer
     // cells than ~8 per face keep memory linear when a few huge faces stretch the box.
     double cell = std::max({2.0 * meanEdge, diag * 1e-6, 1e-300});
-    const double maxCells = std::max(8.0 * double(tris_.size()), 4096.0);
+    const double maxCells = std::max(8.0 * double(n), 4096.0);
     auto countCells = [&](double size) {
-      double n = 1;
-      for (int a = 0; a < 3; ++a) n *= std::floor(box.Dim()[a] / size) + 1;
-      return n;
+      double count = 1;
+      for (int a = 0; a < 3; ++a) count *= std::floor(box.Dim()[a] / size) + 1;
+      return count;
     };
     while (countCells(cell) > maxCells) cell *= 1.25;
     cellSize_ = cell;
     origin_ = box.min;
     for (int a = 0; a < 3; ++a) dims_[a] = int(std::floor(box.Dim()[a] / cell)) + 1;
 
-    // Counting sort of (cell, face) pairs into CSR arrays: deterministic and compact.
+    // Counting sort of (cell, face) pairs into CSR arrays: deterministic and compact. The cell
+    // ranges are found on all threads, the counting and filling run in face order.
     const std::size_t cellCount = std::size_t(dims_[0]) * dims_[1] * dims_[2];
-    cellStart_.assign(cellCount + 1, 0);
-    auto forEachCell = [&](const std::array<Index, 3>& t, auto&& visit) {
-      std::array<int, 3> lo, hi;
-      for (int a = 0; a < 3; ++a) {
-        const double mn = std::min({points_[t[0]][a], points_[t[1]][a], points_[t[2]][a]});
-        const double mx = std::max({points_[t[0]][a], points_[t[1]][a], points_[t[2]][a]});
-        lo[a] = CellCoord(mn, a);
-        hi[a] = CellCoord(mx, a);
+    std::vector<std::array<int, 6>> range(n);
+    ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t f = begin; f < end; ++f) {
+        const auto& t = tris_[f];
+        for (int a = 0; a < 3; ++a) {
+          const double mn = std::min({points_[t[0]][a], points_[t[1]][a], points_[t[2]][a]});
+          const double mx = std::max({points_[t[0]][a], points_[t[1]][a], points_[t[2]][a]});
+          range[f][a] = CellCoord(mn, a);
+          range[f][a + 3] = CellCoord(mx, a);
+        }
       }
-      for (int z = lo[2]; z <= hi[2]; ++z)
-        for (int y = lo[1]; y <= hi[1]; ++y)
-          for (int x = lo[0]; x <= hi[0]; ++x) visit(CellId(x, y, z));
+    });
+    auto forEachCell = [&](const std::array<int, 6>& r, auto&& visit) {
+      for (int z = r[2]; z <= r[5]; ++z)
+        for (int y = r[1]; y <= r[4]; ++y)
+          for (int x = r[0]; x <= r[3]; ++x) visit(CellId(x, y, z));
     };
-    for (const auto& t : tris_) forEachCell(t, [&](std::size_t id) { ++cellStart_[id + 1]; });
+    cellStart_.assign(cellCount + 1, 0);
+    for (const auto& r : range) forEachCell(r, [&](std::size_t id) { ++cellStart_[id + 1]; });
     for (std::size_t i = 0; i < cellCount; ++i) cellStart_[i + 1] += cellStart_[i];
     cellFaces_.resize(cellStart_[cellCount]);
     std::vector<std::size_t> fill(cellStart_.begin(), cellStart_.end() - 1);
-    for (std::size_t f = 0; f < tris_.size(); ++f)
-      forEachCell(tris_[f], [&](std::size_t id) { cellFaces_[fill[id]++] = Index(f); });
+    for (std::size_t f = 0; f < n; ++f)
+      forEachCell(range[f], [&](std::size_t id) { cellFaces_[fill[id]++] = Index(f); });
   }
 
   bool Empty() const { return tris_.empty(); }
@@ -397,7 +419,7 @@ OneSidedDistance SurfaceDistance<MeshA, MeshB>::OneSided(const MeshA& a, const M
     return result;
   }
   TriangleGrid grid;
-  grid.Build(std::move(bPoints), std::move(bTris));
+  grid.Build(std::move(bPoints), std::move(bTris), int(std::max(1u, params.threads)));
 
   std::vector<Point> aPoints;
   std::vector<std::array<Index, 3>> aTris;
@@ -493,7 +515,7 @@ std::vector<double> SurfaceDistance<MeshA, MeshB>::VertexDistances(const MeshA& 
   ExtractTriangles(b, bPoints, bTris);
   if (bTris.empty()) return {};
   TriangleGrid grid;
-  grid.Build(std::move(bPoints), std::move(bTris));
+  grid.Build(std::move(bPoints), std::move(bTris), int(std::max(1u, threads)));
   std::vector<Point> queries;
   std::vector<std::size_t> where;
   for (std::size_t v = 0; v < a.vert.size(); ++v) {
