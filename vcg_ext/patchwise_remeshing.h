@@ -212,7 +212,7 @@ private:
   /// The preconditions, from FF and VF adjacency (recomputed): cheaper than a full quality report.
   static InputTopology CheckTopology(MeshType& m);
 
-  static void BuildCellIndex(const Global& g, double cell, CellIndex& index);
+  static void BuildCellIndex(const Global& g, double cell, int threads, CellIndex& index);
   static void IndexPatches(Global& g, int patchCount);
   static PatchResult OriginalPatch(const Global& g, int p);
   static PatchResult RemeshPatch(const Global& g, const CellIndex& index, const Context& ctx, int p, int haloCells);
@@ -339,21 +339,52 @@ void PatchwiseRemeshing<MeshType>::IndexPatches(Global& g, int patchCount) {
 }
 
 template <class MeshType>
-void PatchwiseRemeshing<MeshType>::BuildCellIndex(const Global& g, double cell, CellIndex& index) {
+void PatchwiseRemeshing<MeshType>::BuildCellIndex(const Global& g, double cell, int threads,
+                                                  CellIndex& index) {
   vcg::Box3d box;
   for (const auto& v : g.mesh.vert)
     if (!v.IsD()) box.Add(Ops::ToPoint(v.cP()));
   index.origin = box.min - Point(cell, cell, cell);
   index.cell = cell;
-  index.entries.clear();
-  std::vector<std::uint64_t> keys;
-  for (std::size_t fi = 0; fi < g.mesh.face.size(); ++fi) {
-    if (g.mesh.face[fi].IsD()) continue;
-    keys.clear();
-    FaceCells(index, g.mesh.face[fi], keys);
-    for (const std::uint64_t k : keys) index.entries.emplace_back(k, std::uint32_t(fi));
+  // The entries of each block of faces on all threads, joined in face order; then a stable
+  // radix sort by key, which leaves them sorted by (key, face) as a sort of the pairs would.
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t nf = g.mesh.face.size(), blocks = (nf + kBlock - 1) / kBlock;
+  std::vector<std::vector<std::pair<std::uint64_t, std::uint32_t>>> blockEntries(blocks);
+  ParallelFor(
+      blocks, threads,
+      [&](std::size_t begin, std::size_t end, int) {
+        std::vector<std::uint64_t> keys;
+        for (std::size_t b = begin; b < end; ++b)
+          for (std::size_t fi = b * kBlock; fi < std::min(nf, (b + 1) * kBlock); ++fi) {
+            if (g.mesh.face[fi].IsD()) continue;
+            keys.clear();
+            FaceCells(index, g.mesh.face[fi], keys);
+            for (const std::uint64_t k : keys) blockEntries[b].emplace_back(k, std::uint32_t(fi));
+          }
+      },
+      1);
+  auto& entries = index.entries;
+  entries.clear();
+  for (const auto& list : blockEntries) entries.insert(entries.end(), list.begin(), list.end());
+  if (entries.empty()) return;
+  std::uint64_t varying = 0; // the key bits that differ between entries
+  for (const auto& e : entries) varying |= e.first ^ entries.front().first;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> other(entries.size());
+  std::vector<std::size_t> count(1u << 16);
+  for (int shift = 0; shift < 64; shift += 16) {
+    if (((varying >> shift) & 0xffff) == 0) continue;
+    std::fill(count.begin(), count.end(), 0);
+    for (const auto& e : entries) ++count[(e.first >> shift) & 0xffff];
+    std::size_t sum = 0;
+    for (auto& c : count) {
+      const std::size_t k = c;
+      c = sum;
+      sum += k;
+    }
+    for (const auto& e : entries) other[count[(e.first >> shift) & 0xffff]++] = e;
+    entries.swap(other);
   }
-  std::sort(index.entries.begin(), index.entries.end());
 }
 
 template <class MeshType>
@@ -872,7 +903,7 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
     for (int p = 0; p < patchCount; ++p) original[std::size_t(p)] = OriginalPatch(g0, p);
     {
       CellIndex index;
-      BuildCellIndex(g0, ctx.cell, index);
+      BuildCellIndex(g0, ctx.cell, threads, index);
       // Largest patches first for load balance; results go by patch id.
       std::vector<int> order(static_cast<std::size_t>(patchCount));
       std::iota(order.begin(), order.end(), 0);
@@ -916,7 +947,7 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
         // Redo each, one after the other, against everything else as it now is.
         for (const int q : involved) {
           CellIndex index;
-          BuildCellIndex(g, ctx.cell, index);
+          BuildCellIndex(g, ctx.cell, threads, index);
           results[std::size_t(q)] = RemeshPatch(g, index, ctx, q, std::max(ctx.haloCells, 1));
           ++result.patchesRedone;
           Stitch(ctx, results, g);
