@@ -1187,8 +1187,21 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
   // what measuring every vertex would give.
   std::vector<std::uint32_t> measure(ref.VertexCount());
   std::iota(measure.begin(), measure.end(), std::uint32_t(0));
+  // The mesh's triangles, the same every round (the rounds only move vertices), so a hit face
+  // of one round names the same face in the next.
+  std::vector<std::array<distance_detail::Index, 3>> tris;
   std::vector<std::size_t> faceOf, movedLastRound;
-  for (int round = 0; round < params.snapRounds + 1; ++round) {
+  tris.reserve(m.face.size());
+  faceOf.reserve(m.face.size());
+  for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
+    const FaceType& f = m.face[fi];
+    if (f.IsD()) continue;
+    tris.push_back({distance_detail::Index(vcg::tri::Index(m, f.cV(0))),
+                    distance_detail::Index(vcg::tri::Index(m, f.cV(1))),
+                    distance_detail::Index(vcg::tri::Index(m, f.cV(2)))});
+    faceOf.push_back(fi);
+  }
+  for (int round = 0; round < params.snapRounds + 1 && !tris.empty(); ++round) {
     if (round > 0) {
       std::vector<std::uint8_t> touched(m.face.size(), 0);
       for (const std::size_t vi : movedLastRound)
@@ -1203,21 +1216,8 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
     // Exact distances of the reference vertices to the current mesh.
     std::vector<Point> points(m.vert.size());
     for (std::size_t i = 0; i < m.vert.size(); ++i) points[i] = Ops::ToPoint(m.vert[i].cP());
-    std::vector<std::array<distance_detail::Index, 3>> tris;
-    faceOf.clear(); // the same faces every round (moves only), so hitFace stays valid
-    tris.reserve(m.face.size());
-    faceOf.reserve(m.face.size());
-    for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
-      const FaceType& f = m.face[fi];
-      if (f.IsD()) continue;
-      tris.push_back({distance_detail::Index(vcg::tri::Index(m, f.cV(0))),
-                      distance_detail::Index(vcg::tri::Index(m, f.cV(1))),
-                      distance_detail::Index(vcg::tri::Index(m, f.cV(2)))});
-      faceOf.push_back(fi);
-    }
-    if (tris.empty()) break;
     TriangleGrid grid;
-    grid.Build(std::move(points), std::move(tris), threads);
+    grid.Build(std::move(points), tris, threads);
     std::vector<TriangleGrid::QueryScratch> scratch(static_cast<std::size_t>(threads));
     ParallelFor(measure.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
       for (std::size_t k = begin; k < end; ++k) {

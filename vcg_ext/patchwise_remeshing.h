@@ -46,6 +46,7 @@
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/local_remeshing_ops.h>
 #include <vcg_ext/parallel_for.h>
+#include <vcg_ext/radix_sort.h>
 #include <vcg_ext/reference_surface.h>
 
 #include <algorithm>
@@ -367,24 +368,9 @@ void PatchwiseRemeshing<MeshType>::BuildCellIndex(const Global& g, double cell, 
   auto& entries = index.entries;
   entries.clear();
   for (const auto& list : blockEntries) entries.insert(entries.end(), list.begin(), list.end());
-  if (entries.empty()) return;
-  std::uint64_t varying = 0; // the key bits that differ between entries
-  for (const auto& e : entries) varying |= e.first ^ entries.front().first;
-  std::vector<std::pair<std::uint64_t, std::uint32_t>> other(entries.size());
-  std::vector<std::size_t> count(1u << 16);
-  for (int shift = 0; shift < 64; shift += 16) {
-    if (((varying >> shift) & 0xffff) == 0) continue;
-    std::fill(count.begin(), count.end(), 0);
-    for (const auto& e : entries) ++count[(e.first >> shift) & 0xffff];
-    std::size_t sum = 0;
-    for (auto& c : count) {
-      const std::size_t k = c;
-      c = sum;
-      sum += k;
-    }
-    for (const auto& e : entries) other[count[(e.first >> shift) & 0xffff]++] = e;
-    entries.swap(other);
-  }
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> scratch;
+  StableRadixSortByKey(entries, scratch,
+                       [](const std::pair<std::uint64_t, std::uint32_t>& e) { return e.first; });
 }
 
 template <class MeshType>

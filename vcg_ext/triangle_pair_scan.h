@@ -17,6 +17,7 @@
 
 #include <vcg_ext/float_box.h>
 #include <vcg_ext/parallel_for.h>
+#include <vcg_ext/radix_sort.h>
 
 #include <algorithm>
 #include <array>
@@ -177,23 +178,8 @@ void TrianglePairScan::Build(std::size_t n, const Point* positions, Fill&& fill,
       keys_[i] = (c[2] * dims_[1] + c[1]) * dims_[0] + c[0];
     }
   });
-  // LSD radix sort of the live indices by key (stable, so ties stay in index order).
-  std::uint64_t maxKey = 0;
-  for (const std::uint32_t i : order_) maxKey = std::max(maxKey, keys_[i]);
-  tmp_.resize(order_.size());
-  std::vector<std::uint32_t> count(1u << 16);
-  for (int shift = 0; shift < 64 && (maxKey >> shift) != 0; shift += 16) {
-    std::fill(count.begin(), count.end(), 0);
-    for (const std::uint32_t i : order_) ++count[(keys_[i] >> shift) & 0xffff];
-    std::uint32_t sum = 0;
-    for (auto& c : count) {
-      const std::uint32_t k = c;
-      c = sum;
-      sum += k;
-    }
-    for (const std::uint32_t i : order_) tmp_[count[(keys_[i] >> shift) & 0xffff]++] = i;
-    order_.swap(tmp_);
-  }
+  // Stable, so triangles of one cell stay in index order.
+  StableRadixSortByKey(order_, tmp_, [&](std::uint32_t i) { return keys_[i]; });
   for (int a = 0; a < 3; ++a) {
     sortedLo_[a].resize(order_.size());
     sortedHi_[a].resize(order_.size());
