@@ -80,6 +80,7 @@ struct RemeshOptions {
   std::uint64_t seed = 1;
   int threads = 0;
   int cvtIterations = 42;
+  double surfaceLift = molremesh::ReferenceSurface<molremesh::MeshD>::Params().phongAlpha;
   int patches = 0;
   double minAngle = 30;
   double maxAngle = 120;
@@ -108,6 +109,7 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.threads = options.threads;
   params.intersectionsEachStage = options.checkEachStage;
   params.cvt.iterations = options.cvtIterations;
+  params.reference.phongAlpha = options.surfaceLift;
   params.segment.patchCount = options.patches;
   params.SetMinAngle(options.minAngle);
   params.SetMaxAngle(options.maxAngle);
@@ -215,6 +217,13 @@ int main(int argc, char** argv) {
   remesh->add_option("--cvt-iterations", remeshOptions.cvtIterations, "Lloyd iterations of the CVT stage")
       ->default_val(42)
       ->check(CLI::Range(0, 10000));
+  remesh
+      ->add_option("--surface-lift", remeshOptions.surfaceLift,
+                   "Share of the way from the input's flat triangles to its smooth (Phong) surface that "
+                   "projected vertices go (at most 0.05 mean edge lengths, none at creases); 0 = on the "
+                   "flat triangles")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   remesh->add_option("--patches", remeshOptions.patches, "Patches of the segmentation, 0 = automatic")
       ->default_val(0)
       ->check(CLI::NonNegativeNumber);

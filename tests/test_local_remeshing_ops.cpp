@@ -28,7 +28,8 @@ using molremesh::QualityReport;
 using molremesh::ReferenceSurface;
 using namespace molremesh::test;
 
-/// A mesh, its reference (a copy of itself) and the operations on it.
+/// A mesh, its reference (a copy of itself) and the operations on it. The reference projects onto
+/// its flat triangles (no Phong lift), so every projected point lies exactly on the copy.
 template <class Mesh>
 struct OpsSetup {
   Mesh m;
@@ -38,7 +39,9 @@ struct OpsSetup {
 
   void Start(const LocalOpsGuards& guards = LocalOpsGuards(), int threads = 1) {
     vcg::tri::UpdateTopology<Mesh>::FaceFace(m);
-    ASSERT_TRUE(ref.Build(m));
+    typename ReferenceSurface<Mesh>::Params flat;
+    flat.phongAlpha = 0;
+    ASSERT_TRUE(ref.Build(m, flat));
     L = ref.MeanEdgeLength();
     ops = std::make_unique<LocalRemeshingOps<Mesh>>(m, ref, L, guards, threads);
     std::string error;

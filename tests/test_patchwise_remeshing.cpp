@@ -202,13 +202,16 @@ void MakeNestedSpheres(MeshD& m) {
   UpdateAdjacency(m);
 }
 
-Patchwise::Result RemeshNestedSpheres(MeshD& m, int haloCells) {
+/// lift: projections lifted toward the Phong surface (the default) or onto the flat triangles.
+Patchwise::Result RemeshNestedSpheres(MeshD& m, int haloCells, bool lift = true) {
   MakeNestedSpheres(m);
   const molremesh::QualityReport before = Quality::Compute(m);
   EXPECT_EQ(before.components, 2u);
   EXPECT_EQ(before.selfIntersectingPairs + before.adjacentOverlapPairs, 0u);
   molremesh::ReferenceSurface<MeshD> reference;
-  EXPECT_TRUE(reference.Build(m));
+  molremesh::ReferenceSurface<MeshD>::Params referenceParams;
+  if (!lift) referenceParams.phongAlpha = 0;
+  EXPECT_TRUE(reference.Build(m, referenceParams));
   Segmentation::Params sp;
   sp.patchCount = 8; // a patch never spans the two spheres (components)
   const molremesh::SegmentationResult s = Segmentation::Do(m, sp);
@@ -235,13 +238,21 @@ void ExpectTwoSeparateClosedSpheres(const MeshD& m) {
 } // namespace
 
 TEST(PatchwiseRemeshing, NearbySheetsInDifferentPatchesNeverMeetOrJoin) {
+  // On the flat reference the inner sphere's patches only coarsen onto its own triangles, so the
+  // halo (the other patches' faces as obstacles) alone keeps every patch off the other sheet.
   MeshD m;
-  const Patchwise::Result r = RemeshNestedSpheres(m, 3);
+  const Patchwise::Result r = RemeshNestedSpheres(m, 3, false);
   ASSERT_TRUE(r.ok) << r.message;
   EXPECT_GT(r.patchStats.collapses, 300u);
   EXPECT_GT(r.haloFaces, 0u);
   EXPECT_EQ(r.conflictPairs, 0u); // the other patches' faces were obstacles in every patch
   ExpectTwoSeparateClosedSpheres(m);
+  // Lifted toward the Phong surface, both sheets move (the lift is larger than the 0.001 gap):
+  // patches may then meet after stitching, and are redone against the others until they do not.
+  MeshD lifted;
+  const Patchwise::Result l = RemeshNestedSpheres(lifted, 3);
+  ASSERT_TRUE(l.ok) << l.message;
+  ExpectTwoSeparateClosedSpheres(lifted);
 }
 
 TEST(PatchwiseRemeshing, PatchesThatMeetAfterStitchingAreRedoneAgainstTheOthers) {

@@ -23,6 +23,13 @@ using molremesh::SurfaceProjection;
 using molremesh::reference_detail::ClosestPointOnTriangle;
 using namespace molremesh::test;
 using Reference = ReferenceSurface<MeshD>;
+
+/// Projection onto the flat triangles themselves, for the tests of the walk.
+Reference::Params FlatParams() {
+  Reference::Params params;
+  params.phongAlpha = 0;
+  return params;
+}
 constexpr double kPi = 3.14159265358979323846;
 
 /// Closest point of the mesh by checking every face.
@@ -118,7 +125,7 @@ TEST(ReferenceSurface, LocalProjectionFindsTheClosestPointOnASmoothSurface) {
   MeshD m;
   Icosphere(m, 3);
   Reference ref;
-  ASSERT_TRUE(ref.Build(m));
+  ASSERT_TRUE(ref.Build(m, FlatParams()));
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-1, 1);
   const double L = ref.MeanEdgeLength();
@@ -265,12 +272,48 @@ TEST(ReferenceSurface, PhongLiftInterpolatesVerticesAndBulgesOutward) {
   EXPECT_NEAR(p.point[2], 0.0, 1e-12);
 }
 
+TEST(ReferenceSurface, PhongLiftIsBoundedAndLeavesCreasesFlat) {
+  MeshD m;
+  Icosphere(m, 1);
+  Reference::Params params;
+  params.phongAlpha = 1;
+  params.phongMaxLift = 0.01;
+  Reference ref;
+  ASSERT_TRUE(ref.Build(m, params));
+  const double bound = params.phongMaxLift * ref.MeanEdgeLength();
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double largest = 0;
+  for (int i = 0; i < 200; ++i) {
+    Point d(u(rng), u(rng), u(rng));
+    d.Normalize();
+    const SurfaceProjection flat = ref.ProjectGlobal(d * 0.9);
+    const SurfaceProjection lifted = ref.Project(d * 0.9, flat.face);
+    largest = std::max(largest, (lifted.point - flat.point).Norm());
+  }
+  EXPECT_LE(largest, bound * (1 + 1e-9));
+  EXPECT_GT(largest, 0.99 * bound); // the sphere's lift reaches the bound inside its coarse faces
+
+  // A tetrahedron: every corner normal is 70.5 degrees off the faces' normals, a crease
+  // everywhere, so nothing is lifted.
+  MeshD tetra;
+  vcg::tri::Tetrahedron(tetra);
+  Reference sharp;
+  ASSERT_TRUE(sharp.Build(tetra, params));
+  for (int i = 0; i < 100; ++i) {
+    const Point p = Point(u(rng), u(rng), u(rng)) * 0.3;
+    const SurfaceProjection flat = sharp.ProjectGlobal(p);
+    const SurfaceProjection lifted = sharp.Project(p, flat.face);
+    EXPECT_NEAR((lifted.point - flat.point).Norm(), 0.0, 1e-12);
+  }
+}
+
 TEST(ReferenceSurface, RealMeshLocalProjectionAgreesWithGlobalNearTheSurface) {
   MeshD m;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(m, SharedMesh("bpti_1bpi_msms.ply"), error)) << error;
   Reference ref;
-  ASSERT_TRUE(ref.Build(m));
+  ASSERT_TRUE(ref.Build(m, FlatParams()));
   const double L = ref.MeanEdgeLength();
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> u(-1, 1);

@@ -12,10 +12,17 @@
 // hint face's, so it stays on the sheet the vertex came from.
 //
 // It also knows its connected components (closed or not, with their enclosed volumes), which
-// the stages use to restore each component's volume. Optionally (Params::phongAlpha > 0) Project
-// returns points on the Phong tessellation of the input (the curved surface through the input
-// vertices with their normals) instead of on its flat triangles; off by default, because on
-// sliver-ridden inputs the vertex normals are poor and the lift can exceed 0.1 L.
+// the stages use to restore each component's volume.
+//
+// Project lifts the closest point of the flat triangles part of the way (Params::phongAlpha)
+// toward the Phong tessellation of the input: the curved surface through the input vertices
+// with their normals. Vertices placed on the flat triangles lie on chords of the molecular
+// surface, so a remesh whose edges are chords of those chords loses area twice; the lift puts
+// the new vertices back toward the curved surface the input samples (area change on the shared
+// meshes: 1HPV -0.57 -> -0.30 %, 1UBQ PyMOL -2.10 -> -0.85 %). The lift is bounded
+// (Params::phongMaxLift) because on sliver-ridden inputs the vertex normals are poor and an
+// unbounded lift leaves vertices up to 0.37 L off the input; bounded, every vertex stays within
+// 0.05 mean edge lengths of the flat input.
 //
 // Thread safety: after Build, every const member is safe to call concurrently provided each
 // thread passes its own Scratch to Project (the overload without Scratch uses an internal one
@@ -120,8 +127,13 @@ public:
     double maxNormalAngleDeg = 90;  ///< Project skips faces whose normal is farther than this from the hint face's
     int maxVisitedFaces = 4096;     ///< bound on the faces one Project call examines
     double gridCellFactor = 2.0;    ///< global grid cell size, in mean edge lengths
-    double phongAlpha = 0.0;        ///< Project lifts onto the Phong tessellation of the input, blended by
-                                    ///< this factor (0: the flat triangles themselves)
+    double phongAlpha = 0.5;        ///< Project lifts toward the Phong tessellation of the input, blended by
+                                    ///< this factor (0: the flat triangles themselves, 1: the Phong surface)
+    double phongMaxLift = 0.05;     ///< bound on the lift's length, in mean edge lengths of the input
+                                    ///< (0: unbounded)
+    double phongSmoothDeg = 30;     ///< full lift on faces whose corner normals all lie within this angle
+    double phongCreaseDeg = 60;     ///< of the face normal, none when one lies this far (a crease, a fin,
+                                    ///< a sliver fan: the Phong surface means nothing there); linear between
   };
 
   /// Per-thread working memory of Project (visited marks). Cheap to keep, costly to create per call.
@@ -240,8 +252,8 @@ private:
   /// Each face's box rounded outward to float: Project's walk rejects most faces it looks at by
   /// their box, and this array is a sixth of faces_, so the rejections mostly hit the cache.
   std::vector<FloatBox> compactBox_;
-  std::vector<std::array<Point, 3>>
-      cornerNormals_; ///< vertex normals at each face's corners (Phong lift only)
+  std::vector<Point> vertexNormals_; ///< unit normal of each Vertex() (Phong lift only)
+  std::vector<float> liftWeight_;    ///< each face's share of the lift, from its corner normals (Phong only)
   std::vector<std::uint32_t> neighborStart_, neighbors_; ///< faces sharing an edge, CSR
   std::vector<std::size_t> sourceFace_;
   std::vector<int> component_;
@@ -271,7 +283,8 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
   params_ = params;
   faces_.clear();
   compactBox_.clear();
-  cornerNormals_.clear();
+  vertexNormals_.clear();
+  liftWeight_.clear();
   sourceFace_.clear();
   referenceOf_.assign(m.face.size(), -1);
   box_.SetNull();
@@ -334,19 +347,26 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
   }
   if (params_.phongAlpha > 0 && faceCount_ > 0) {
     // Angle-weighted vertex normals.
-    std::vector<Point> vertexNormal(m.vert.size(), Point(0, 0, 0));
+    vertexNormals_.assign(vertices_.size(), Point(0, 0, 0));
     for (std::size_t f = 0; f < faceCount_; ++f)
       for (int k = 0; k < 3; ++k) {
         const Point u = faces_[f].p[(k + 1) % 3] - faces_[f].p[k], w = faces_[f].p[(k + 2) % 3] - faces_[f].p[k];
-        vertexNormal[tris[f][k]] += faces_[f].n * std::atan2((u ^ w).Norm(), u * w);
+        vertexNormals_[faceVertices_[f][k]] += faces_[f].n * std::atan2((u ^ w).Norm(), u * w);
       }
-    for (auto& n : vertexNormal) {
+    for (auto& n : vertexNormals_) {
       const double len = n.Norm();
       if (len > 0) n /= len;
     }
-    cornerNormals_.resize(faceCount_);
-    for (std::size_t f = 0; f < faceCount_; ++f)
-      for (int k = 0; k < 3; ++k) cornerNormals_[f][k] = vertexNormal[tris[f][k]];
+    const double cosSmooth = std::cos(params_.phongSmoothDeg * 3.14159265358979323846 / 180.0),
+                 cosCrease = std::cos(params_.phongCreaseDeg * 3.14159265358979323846 / 180.0);
+    liftWeight_.resize(faceCount_);
+    for (std::size_t f = 0; f < faceCount_; ++f) {
+      double worst = 1;
+      for (int k = 0; k < 3; ++k) worst = std::min(worst, vertexNormals_[faceVertices_[f][k]] * faces_[f].n);
+      const double w =
+          cosSmooth > cosCrease ? (worst - cosCrease) / (cosSmooth - cosCrease) : double(worst >= cosSmooth);
+      liftWeight_[f] = faces_[f].n.SquaredNorm() > 0 ? float(std::clamp(w, 0.0, 1.0)) : 0.0f;
+    }
   }
   if (faceCount_ == 0) {
     if (error) *error = "the reference surface has no face";
@@ -464,8 +484,8 @@ void ReferenceSurface<MeshType>::BuildGrid() {
 
 template <class MeshType>
 vcg::Point3d ReferenceSurface<MeshType>::Lift(const Point& q, int f) const {
+  if (!(params_.phongAlpha > 0) || !(liftWeight_[f] > 0)) return q;
   const Face& face = faces_[f];
-  if (!(params_.phongAlpha > 0)) return q;
   // Barycentric coordinates of q (on the face) from sub-triangle areas along the face normal.
   const Point n = (face.p[1] - face.p[0]) ^ (face.p[2] - face.p[0]);
   const double n2 = n.SquaredNorm();
@@ -478,10 +498,16 @@ vcg::Point3d ReferenceSurface<MeshType>::Lift(const Point& q, int f) const {
   // Phong tessellation: the barycentric blend of q's projections onto the corners' tangent planes.
   Point phong(0, 0, 0);
   for (int k = 0; k < 3; ++k) {
-    const Point& vn = cornerNormals_[f][k];
+    const Point& vn = vertexNormals_[faceVertices_[f][k]];
     phong += (q - vn * ((q - face.p[k]) * vn)) * (b[k] / sum);
   }
-  return q * (1.0 - params_.phongAlpha) + phong * params_.phongAlpha;
+  Point lift = (phong - q) * (params_.phongAlpha * liftWeight_[f]);
+  const double maxLift = params_.phongMaxLift * meanEdge_;
+  if (maxLift > 0) {
+    const double len = lift.Norm();
+    if (len > maxLift) lift *= maxLift / len;
+  }
+  return q + lift;
 }
 
 template <class MeshType>

@@ -137,6 +137,10 @@ public:
     /// Count self-intersecting pairs in every stage's report; otherwise only in the input's and the
     /// last stage's (every edit already refuses new intersections; the count is the slowest figure).
     bool intersectionsEachStage = true;
+    /// The input surface the stages from CVT on project onto (built once, from the cleaned mesh);
+    /// reference.phongAlpha is the share of the bounded lift toward its Phong surface, applied only
+    /// when the run includes both the CVT and the RAR stage (see ensureReference in Do).
+    typename ReferenceSurface<MeshType>::Params reference;
     typename CleanRawMesh<MeshType>::Params clean; ///< threads: the pipeline's
     typename CvtInitialization<MeshType>::Params cvt;
     typename RandomSegmentation<MeshType>::Params segment;
@@ -232,7 +236,17 @@ public:
       if (reference) return {};
       reference = std::make_unique<ReferenceSurface<MeshType>>();
       std::string error;
-      if (!reference->Build(m, typename ReferenceSurface<MeshType>::Params(), &error)) return error;
+      // The lift recovers the curved surface the molecular input's vertices sample. Only a run
+      // that both resamples that input (CVT) and remeshes it to the final resolution (RAR) lifts.
+      // A run that starts later gets a remesh as its reference, whose vertices a lift would move
+      // again, stage after stage; a run that stops after CVT hands a lifted layer to the next run
+      // as its reference, which is no longer the input (the filters, one per stage, chain like this).
+      typename ReferenceSurface<MeshType>::Params referenceParams = params.reference;
+      const auto runs = [&](PipelineStage stage) {
+        return std::find(params.stages.begin(), params.stages.end(), stage) != params.stages.end();
+      };
+      if (!runs(PipelineStage::Cvt) || !runs(PipelineStage::Rar)) referenceParams.phongAlpha = 0;
+      if (!reference->Build(m, referenceParams, &error)) return error;
       return {};
     };
     auto ensureTargetLength = [&]() {
