@@ -178,3 +178,31 @@ TEST(Cli, CleanComponentThresholdIsAnOption) {
   EXPECT_NE(bad.exitCode, 0);
   std::filesystem::remove_all(dir);
 }
+
+// The Phong lift of the projections is an option: on the GRASP galactose surface the lifted
+// remesh keeps more of the input's area than the one on the flat triangles (measured: -0.18 % and
+// -0.44 % of the raw area), and a share outside [0, 1] is refused.
+TEST(Cli, SurfaceLiftIsAnOption) {
+  const auto dir = TempDir("cli_surface_lift");
+  const std::string out = (dir / "out.ply").string();
+  const std::string mesh = Quote(SharedMesh("galactose_grasp.ply"));
+  auto areaAfterRemesh = [&](const std::string& options) {
+    const CommandResult r =
+        Cli("remesh --quiet --stages clean,cvt,segment,rar " + options + " " + mesh + " " + Quote(out));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    const CommandResult report = Cli("report --json " + Quote(out));
+    EXPECT_EQ(report.exitCode, 0) << report.err;
+    const nlohmann::json figures = nlohmann::json::parse(report.out);
+    EXPECT_EQ(figures["self_intersecting_pairs"].get<int>(), 0);
+    EXPECT_EQ(figures["two_manifold"].get<bool>(), true);
+    return figures["area"].get<double>();
+  };
+  const CommandResult input = Cli("report --json --no-self-intersections " + mesh);
+  ASSERT_EQ(input.exitCode, 0) << input.err;
+  const double inputArea = nlohmann::json::parse(input.out)["area"].get<double>();
+  const double lifted = areaAfterRemesh("");
+  const double flat = areaAfterRemesh("--surface-lift 0");
+  EXPECT_LT(std::abs(lifted - inputArea), std::abs(flat - inputArea));
+  EXPECT_NE(Cli("remesh --surface-lift 1.5 " + mesh + " " + Quote(out)).exitCode, 0);
+  std::filesystem::remove_all(dir);
+}

@@ -19,10 +19,11 @@
 // with their normals. Vertices placed on the flat triangles lie on chords of the molecular
 // surface, so a remesh whose edges are chords of those chords loses area twice; the lift puts
 // the new vertices back toward the curved surface the input samples (area change on the shared
-// meshes: 1HPV -0.57 -> -0.30 %, 1UBQ PyMOL -2.10 -> -0.85 %). The lift is bounded
+// meshes: 1HPV -0.57 -> -0.30 %, 1UBQ PyMOL -2.10 -> -0.83 %). The lift is bounded
 // (Params::phongMaxLift) because on sliver-ridden inputs the vertex normals are poor and an
-// unbounded lift leaves vertices up to 0.37 L off the input; bounded, every vertex stays within
-// 0.05 mean edge lengths of the flat input.
+// unbounded lift leaves vertices up to 0.37 L off the input, and it fades out on faces with a
+// corner normal far from the face normal (Params::phongSmoothDeg, phongCreaseDeg): at creases,
+// fins and sliver fans the Phong surface describes nothing real.
 //
 // Thread safety: after Build, every const member is safe to call concurrently provided each
 // thread passes its own Scratch to Project (the overload without Scratch uses an internal one
