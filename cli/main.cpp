@@ -80,7 +80,7 @@ struct RemeshOptions {
   std::uint64_t seed = 1;
   int threads = 0;
   int cvtIterations = 42;
-  double surfaceLift = molremesh::ReferenceSurface<molremesh::MeshD>::Params().phongAlpha;
+  double surfaceLift = molremesh::RemeshPipeline<molremesh::MeshD>::ReferenceDefaults().phongAlpha;
   int patches = 0;
   double minAngle = 30;
   double maxAngle = 120;

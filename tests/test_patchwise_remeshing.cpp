@@ -202,7 +202,8 @@ void MakeNestedSpheres(MeshD& m) {
   UpdateAdjacency(m);
 }
 
-/// lift: projections lifted toward the Phong surface (the default) or onto the flat triangles.
+/// lift: projections lifted half way toward the Phong surface (as in the pipeline) or onto the flat
+/// triangles.
 Patchwise::Result RemeshNestedSpheres(MeshD& m, int haloCells, bool lift = true) {
   MakeNestedSpheres(m);
   const molremesh::QualityReport before = Quality::Compute(m);
@@ -210,7 +211,7 @@ Patchwise::Result RemeshNestedSpheres(MeshD& m, int haloCells, bool lift = true)
   EXPECT_EQ(before.selfIntersectingPairs + before.adjacentOverlapPairs, 0u);
   molremesh::ReferenceSurface<MeshD> reference;
   molremesh::ReferenceSurface<MeshD>::Params referenceParams;
-  if (!lift) referenceParams.phongAlpha = 0;
+  referenceParams.phongAlpha = lift ? 0.5 : 0.0;
   EXPECT_TRUE(reference.Build(m, referenceParams));
   Segmentation::Params sp;
   sp.patchCount = 8; // a patch never spans the two spheres (components)

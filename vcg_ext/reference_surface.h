@@ -14,8 +14,9 @@
 // It also knows its connected components (closed or not, with their enclosed volumes), which
 // the stages use to restore each component's volume.
 //
-// Project lifts the closest point of the flat triangles part of the way (Params::phongAlpha)
-// toward the Phong tessellation of the input: the curved surface through the input vertices
+// Project can lift the closest point of the flat triangles part of the way (Params::phongAlpha,
+// off by default here, 0.5 in RemeshPipeline's runs from CVT through RAR) toward the Phong
+// tessellation of the input: the curved surface through the input vertices
 // with their normals. Vertices placed on the flat triangles lie on chords of the molecular
 // surface, so a remesh whose edges are chords of those chords loses area twice; the lift puts
 // the new vertices back toward the curved surface the input samples (area change on the shared
@@ -128,8 +129,9 @@ public:
     double maxNormalAngleDeg = 90;  ///< Project skips faces whose normal is farther than this from the hint face's
     int maxVisitedFaces = 4096;     ///< bound on the faces one Project call examines
     double gridCellFactor = 2.0;    ///< global grid cell size, in mean edge lengths
-    double phongAlpha = 0.5;        ///< Project lifts toward the Phong tessellation of the input, blended by
-                                    ///< this factor (0: the flat triangles themselves, 1: the Phong surface)
+    double phongAlpha = 0.0;        ///< Project lifts toward the Phong tessellation of the input, blended by
+                                    ///< this factor (0: the flat triangles themselves, 1: the Phong surface;
+                                    ///< RemeshPipeline sets 0.5 for runs from CVT through RAR)
     double phongMaxLift = 0.05;     ///< bound on the lift's length, in mean edge lengths of the input
                                     ///< (0: unbounded)
     double phongSmoothDeg = 30;     ///< full lift on faces whose corner normals all lie within this angle

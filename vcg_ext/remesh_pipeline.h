@@ -140,7 +140,7 @@ public:
     /// The input surface the stages from CVT on project onto (built once, from the cleaned mesh);
     /// reference.phongAlpha is the share of the bounded lift toward its Phong surface, applied only
     /// when the run includes both the CVT and the RAR stage (see ensureReference in Do).
-    typename ReferenceSurface<MeshType>::Params reference;
+    typename ReferenceSurface<MeshType>::Params reference = ReferenceDefaults();
     typename CleanRawMesh<MeshType>::Params clean; ///< threads: the pipeline's
     typename CvtInitialization<MeshType>::Params cvt;
     typename RandomSegmentation<MeshType>::Params segment;
@@ -170,6 +170,14 @@ public:
     /// Phase-2 area limit of both valence passes.
     void SetValenceAreaFactor(double factor) { valence.areaFactor = polish.areaFactor = factor; }
   };
+
+  /// Half way toward the input's Phong surface, bounded (see vcg_ext/reference_surface.h): vertices
+  /// on the flat input triangles make a remesh of chords of chords.
+  static typename ReferenceSurface<MeshType>::Params ReferenceDefaults() {
+    typename ReferenceSurface<MeshType>::Params p;
+    p.phongAlpha = 0.5;
+    return p;
+  }
 
   static typename ValenceOptimization<MeshType>::Params PolishDefaults() {
     typename ValenceOptimization<MeshType>::Params p;
@@ -239,8 +247,8 @@ public:
       // The lift recovers the curved surface the molecular input's vertices sample. Only a run
       // that both resamples that input (CVT) and remeshes it to the final resolution (RAR) lifts.
       // A run that starts later gets a remesh as its reference, whose vertices a lift would move
-      // again, stage after stage; a run that stops after CVT hands a lifted layer to the next run
-      // as its reference, which is no longer the input (the filters, one per stage, chain like this).
+      // again, stage after stage; a run that stopped after CVT would hand a lifted layer to the next
+      // run as its reference, which is no longer the input (the filters, one per stage, chain so).
       typename ReferenceSurface<MeshType>::Params referenceParams = params.reference;
       const auto runs = [&](PipelineStage stage) {
         return std::find(params.stages.begin(), params.stages.end(), stage) != params.stages.end();
