@@ -1555,7 +1555,7 @@ private:
   /// loop opened by the removal is filled validly. Tries growing rings. Topology is fresh on return.
   static bool RepairRegion(MeshType& m, const std::vector<Index>& seed, const Params& params, double meanEdge,
                            double tol, FaceGrid& grid, int& attemptsLeft, std::size_t& facesRemoved,
-                           std::size_t& facesAdded) {
+                           std::size_t& facesAdded, const std::vector<Index>* reinsertExcept = nullptr) {
     for (Index f : seed)
       if (m.face[f].IsD()) return false;
     std::vector<Index> region = seed;
@@ -1626,9 +1626,27 @@ private:
         if (ok) {
           ctx.addedEdges.clear();
           std::size_t added = 0;
+          const Index firstAdded = Index(m.face.size());
           for (const auto& plan : plans) {
             CommitFill(m, plan, ctx);
             added += plan.size();
+          }
+          if (reinsertExcept) {
+            std::vector<std::uint8_t> onLoop(m.vert.size(), 0);
+            for (Index f = firstAdded; f < m.face.size(); ++f)
+              for (int k = 0; k < 3; ++k) onLoop[VI(m, m.face[f], k)] = 1;
+            std::vector<Index> inner;
+            for (Index f : region)
+              for (int k = 0; k < 3; ++k) {
+                const Index v = VI(m, m.face[f], k);
+                if (onLoop[v] ||
+                    std::find(reinsertExcept->begin(), reinsertExcept->end(), v) != reinsertExcept->end())
+                  continue;
+                inner.push_back(v);
+              }
+            std::sort(inner.begin(), inner.end());
+            inner.erase(std::unique(inner.begin(), inner.end()), inner.end());
+            added += ReinsertVertices(m, inner, firstAdded, ctx);
           }
           RebuildTopology(m);
           facesRemoved += region.size();
@@ -1640,6 +1658,80 @@ private:
       RebuildTopology(m);
     }
     return false;
+  }
+
+  /// Puts vertices of a removed region back into its fill, each into the fill face it lies closest
+  /// above or below (split 1 -> 3), farthest first, when the three new faces are proper, keep the
+  /// face's orientation and meet no other face. A fill without interior vertices is flat; this
+  /// brings it back onto the surface it replaced. Returns the faces added.
+  static std::size_t ReinsertVertices(MeshType& m, const std::vector<Index>& vertices, Index firstFill,
+                                      FillContext& ctx) {
+    std::size_t added = 0;
+    std::vector<Index> near;
+    std::vector<std::uint8_t> done(vertices.size(), 0);
+    for (std::size_t round = 0; round < vertices.size(); ++round) {
+      // The vertex farthest from the fill goes first.
+      double bestDistance = -1;
+      std::size_t bestVertex = vertices.size();
+      Index bestFace = 0;
+      for (std::size_t i = 0; i < vertices.size(); ++i) {
+        if (done[i]) continue;
+        const Point p = Pos(m, vertices[i]);
+        double nearest = std::numeric_limits<double>::infinity();
+        Index face = 0;
+        for (Index f = firstFill; f < m.face.size(); ++f) {
+          if (m.face[f].IsD()) continue;
+          const Tri t = FaceTri(m, m.face[f]);
+          const Point a = Pos(m, t[0]), b = Pos(m, t[1]), c = Pos(m, t[2]);
+          const Point n = (b - a) ^ (c - a);
+          const double n2 = n.SquaredNorm();
+          if (!(n2 > 0)) continue;
+          bool inside = true;
+          for (int k = 0; k < 3; ++k) {
+            const Point& u = k == 0 ? a : k == 1 ? b : c;
+            const Point& w = k == 0 ? b : k == 1 ? c : a;
+            if (((w - u) ^ (p - u)) * n < 0) inside = false;
+          }
+          if (!inside) continue;
+          const double d = std::fabs((p - a) * n) / std::sqrt(n2);
+          if (d < nearest) nearest = d, face = f;
+        }
+        if (nearest == std::numeric_limits<double>::infinity()) continue;
+        if (nearest > bestDistance) bestDistance = nearest, bestVertex = i, bestFace = face;
+      }
+      if (bestVertex == vertices.size()) break;
+      done[bestVertex] = 1;
+      const Index v = vertices[bestVertex];
+      const Tri t = FaceTri(m, m.face[bestFace]);
+      const std::array<Tri, 3> split{Tri{t[0], t[1], v}, Tri{t[1], t[2], v}, Tri{t[2], t[0], v}};
+      const Point n = (Pos(m, t[1]) - Pos(m, t[0])) ^ (Pos(m, t[2]) - Pos(m, t[0]));
+      bool ok = true;
+      for (const Tri& nt : split) {
+        const Point nn = (Pos(m, nt[1]) - Pos(m, nt[0])) ^ (Pos(m, nt[2]) - Pos(m, nt[0]));
+        if (!(0.5 * nn.Norm() > ctx.minArea) || nn * n <= 0.5 * nn.Norm() * n.Norm()) ok = false;
+      }
+      if (!ok) continue;
+      for (const Tri& nt : split) {
+        ctx.grid->Query(m, FaceGrid::Box(m, nt, ctx.tol), near);
+        for (Index g : near)
+          if (g != bestFace && Conflict(m, nt, FaceTri(m, m.face[g]))) ok = false;
+        if (!ok) break;
+      }
+      if (!ok) continue;
+      FaceType& f = m.face[bestFace];
+      f.V(2) = &m.vert[v];
+      const Index first = Index(m.face.size());
+      vcg::tri::Allocator<MeshType>::AddFaces(m, 2);
+      for (int i = 0; i < 2; ++i) {
+        FaceType& g = m.face[first + Index(i)];
+        for (int k = 0; k < 3; ++k) g.V(k) = &m.vert[split[std::size_t(i) + 1][k]];
+        for (int k = 0; k < 3; ++k) g.FFp(k) = &g, g.FFi(k) = k;
+        ctx.grid->Insert(m, first + Index(i));
+      }
+      ctx.grid->Insert(m, bestFace);
+      added += 2;
+    }
+    return added;
   }
 
   /// A split vertex and its copy sit at the same point: when both keep faces, their fans touch, which
@@ -1662,7 +1754,8 @@ private:
         std::vector<Index> fan;
         for (const auto& corner : *star) fan.push_back(corner.first);
         std::size_t removed = 0, added = 0;
-        if (RepairRegion(m, fan, params, meanEdge, tol, *grid, attemptsLeft, removed, added)) {
+        const std::vector<Index> split{original, copy};
+        if (RepairRegion(m, fan, params, meanEdge, tol, *grid, attemptsLeft, removed, added, &split)) {
           r.retriangulatedPinchFans += 1;
           r.pinchFanFacesRemoved += removed;
           r.pinchFanFacesAdded += added;
