@@ -242,19 +242,18 @@ TEST_P(MeshlabServerRemesh, CleanCvtRarScriptGivesAValidMeshLikeTheCli) {
                         Quote(kScripts + "/remesh_clean_cvt_rar.mlx"),
                     900);
   ASSERT_EQ(r.exitCode, 0) << ReadFile(logFile) << r.out << r.err;
-  const CommandResult cli = molremesh::test::Run("timeout -k 10 900 " + Quote(kCli) +
-                                                 " remesh --quiet --stages clean,cvt,segment,rar --json " +
-                                                 Quote(cliJson) + " " + Quote(input) + " " + Quote(viaCli));
+  auto runCli = [&](const std::string& options, const std::string& output, const std::string& json) {
+    return molremesh::test::Run("timeout -k 10 900 " + Quote(kCli) + " remesh --quiet " + options +
+                                " --stages clean,cvt,segment,rar --json " + Quote(json) + " " + Quote(input) +
+                                " " + Quote(output));
+  };
+  const CommandResult cli = runCli("", viaCli, cliJson);
   ASSERT_EQ(cli.exitCode, 0) << cli.err;
   // The filters run one stage per pipeline, and a run without both CVT and RAR projects onto the
   // flat triangles of its layer (no Phong lift; RemeshPipeline::Params::reference), so the
   // like-the-CLI figures below compare with the CLI run without the lift.
-  const std::string viaFlatCli = (dir / "cli_flat.ply").string();
   const std::string flatJson = (dir / "cli_flat.json").string();
-  const CommandResult flatCli =
-      molremesh::test::Run("timeout -k 10 900 " + Quote(kCli) +
-                           " remesh --quiet --surface-lift 0 --stages clean,cvt,segment,rar --json " +
-                           Quote(flatJson) + " " + Quote(input) + " " + Quote(viaFlatCli));
+  const CommandResult flatCli = runCli("--surface-lift 0", (dir / "cli_flat.ply").string(), flatJson);
   ASSERT_EQ(flatCli.exitCode, 0) << flatCli.err;
   const nlohmann::json flat = nlohmann::json::parse(ReadFile(flatJson))["stages"][3]["after"];
 

@@ -1682,18 +1682,14 @@ private:
         for (Index f = firstFill; f < m.face.size(); ++f) {
           if (m.face[f].IsD()) continue;
           const Tri t = FaceTri(m, m.face[f]);
-          const Point a = Pos(m, t[0]), b = Pos(m, t[1]), c = Pos(m, t[2]);
-          const Point n = (b - a) ^ (c - a);
-          const double n2 = n.SquaredNorm();
-          if (!(n2 > 0)) continue;
-          bool inside = true;
-          for (int k = 0; k < 3; ++k) {
-            const Point& u = k == 0 ? a : k == 1 ? b : c;
-            const Point& w = k == 0 ? b : k == 1 ? c : a;
-            if (((w - u) ^ (p - u)) * n < 0) inside = false;
-          }
+          const std::array<Point, 3> c{Pos(m, t[0]), Pos(m, t[1]), Pos(m, t[2])};
+          const Point n = UnitNormal(c[0], c[1], c[2]);
+          if (n == Point(0, 0, 0)) continue;
+          bool inside = true; // p projects into the face
+          for (int k = 0; k < 3; ++k)
+            if (((c[(k + 1) % 3] - c[k]) ^ (p - c[k])) * n < 0) inside = false;
           if (!inside) continue;
-          const double d = std::fabs((p - a) * n) / std::sqrt(n2);
+          const double d = std::fabs((p - c[0]) * n);
           if (d < nearest) nearest = d, face = f;
         }
         if (nearest == std::numeric_limits<double>::infinity()) continue;
@@ -1704,11 +1700,11 @@ private:
       const Index v = vertices[bestVertex];
       const Tri t = FaceTri(m, m.face[bestFace]);
       const std::array<Tri, 3> split{Tri{t[0], t[1], v}, Tri{t[1], t[2], v}, Tri{t[2], t[0], v}};
-      const Point n = (Pos(m, t[1]) - Pos(m, t[0])) ^ (Pos(m, t[2]) - Pos(m, t[0]));
+      const Point n = FaceNormal(m, m.face[bestFace]);
       bool ok = true;
-      for (const Tri& nt : split) {
-        const Point nn = (Pos(m, nt[1]) - Pos(m, nt[0])) ^ (Pos(m, nt[2]) - Pos(m, nt[0]));
-        if (!(0.5 * nn.Norm() > ctx.minArea) || nn * n <= 0.5 * nn.Norm() * n.Norm()) ok = false;
+      for (const Tri& nt : split) { // proper, and within 60 degrees of the face it splits
+        const Point a = Pos(m, nt[0]), b = Pos(m, nt[1]), c = Pos(m, nt[2]);
+        if (!(TriArea(a, b, c) > ctx.minArea) || UnitNormal(a, b, c) * n <= 0.5) ok = false;
       }
       if (!ok) continue;
       for (const Tri& nt : split) {
