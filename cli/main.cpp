@@ -10,6 +10,10 @@
 #include <iostream>
 #include <string>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include <vcg_ext/bad_element_coloring.h>
 #include <vcg_ext/input_check.h>
 #include <vcg_ext/mesh_io.h>
@@ -166,9 +170,23 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   return 0;
 }
 
+/// The stages allocate and free large scratch vectors over and over (per Lloyd iteration, per
+/// verification, per patch). glibc serves blocks above its mmap threshold (which grows only up to
+/// 32 MB) with fresh mappings and hands freed heap tops back to the kernel, so each round faults
+/// the same memory in again: about 500 000 page faults on the 535k-face mTOR mesh. Keeping it in
+/// the heap halves them (0.5 s of system time there) for about 30 MB more peak memory. Set here,
+/// in the batch tool only: the MeshLab plugin leaves its host's allocator alone.
+void KeepFreedMemoryInTheHeap() {
+#if defined(__GLIBC__)
+  mallopt(M_MMAP_THRESHOLD, 128 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
+#endif
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
+  KeepFreedMemoryInTheHeap();
   CLI::App app{"molremesh: molecular surface remeshing (valence optimization and angle improvement)"};
   app.require_subcommand(1);
 
