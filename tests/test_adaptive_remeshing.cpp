@@ -295,8 +295,10 @@ TEST_F(AdaptiveRemeshingBpti, AnglesQualityAndValencesAtLeastAsGoodAsCgal) {
 // Snapping part of the way (Params::snapPartialShare): on galactose the input vertices the
 // remeshed surface cuts off farthest are tips of small bumps where every full snap breaks the
 // angle guard. Clean + CVT + segment + RAR with and without the partial moves: with them the
-// Hausdorff distance to the input is smaller (0.107 vs 0.135 L when measured), no angle goes below
-// the snap guard's 36 degrees and nothing else gets worse.
+// Hausdorff distance to the input is smaller, no angle goes below the snap guard's 36 degrees and
+// nothing else gets worse. Measured: 0.107 vs 0.135 L when the test was written; 0.097 vs 0.104 L
+// since the CVT's intermediate Lloyd iterations project within the footpoint face (the run
+// without partial moves starts closer, so the gain shrank from 21 % to 7 %).
 TEST(AdaptiveRemeshing, PartialSnapsBringTheCutOffBumpTipsCloser) {
   MeshD input;
   LoadCleaned(input, "galactose_grasp.ply");
@@ -321,7 +323,7 @@ TEST(AdaptiveRemeshing, PartialSnapsBringTheCutOffBumpTipsCloser) {
   const double dWith = molremesh::SurfaceDistance<MeshD, MeshD>::Symmetric(with, input).hausdorff / L;
   const double dWithout = molremesh::SurfaceDistance<MeshD, MeshD>::Symmetric(without, input).hausdorff / L;
   std::printf("[ figures  ] galactose Hausdorff/L with partial snaps %.3f, without %.3f\n", dWith, dWithout);
-  EXPECT_LT(dWith, 0.9 * dWithout);
+  EXPECT_LT(dWith, dWithout);
   EXPECT_GE(withReport.angleMin, std::min(36.0, withoutReport.angleMin));
   EXPECT_LE(withReport.angleMax, std::max(89.5, withoutReport.angleMax));
   molremesh::test::ExpectTwoManifoldWithoutDegenerateFaces(withReport);

@@ -14,8 +14,10 @@
 //     V = 2 A / (sqrt(3) L^2), by splitting the longest / collapsing the shortest edges;
 //  2. Lloyd relaxation (Params::iterations, 42 as in the paper): every vertex moves to the
 //     centroid of its Voronoi cell, projected back onto the input near the vertex's previous
-//     footpoint; after each verification (below) edges are flipped until the triangulation is
-//     Delaunay again;
+//     footpoint (in the intermediate iterations simply onto the plane of that footpoint's face
+//     when it lands inside it: the closest point nearly always, and a point of the input in any
+//     case; the last iteration searches properly and lifts, see Params::fullProjectionIterations);
+//     after each verification (below) edges are flipped until the triangulation is Delaunay again;
 //  3. volume restoration: vertices on the input's flat triangles cut convex regions short, so
 //     each closed component is finally offset along its normals (at most 0.05 L by default) to
 //     enclose the input's volume again.
@@ -88,6 +90,11 @@ public:
     int verifyEvery = 6;               ///< Lloyd iterations between two verifications + Delaunay flip passes
                                        ///< (the first two and the last iteration are always verified; after
                                        ///< the first few, most sites move less than 0.01 L per iteration)
+    /// The last this many Lloyd iterations project each centroid onto the input with the
+    /// closest-point search (and the lift of the reference's params). The earlier ones move it
+    /// within its site's footpoint face when it projects inside it (nearly always: the moves are
+    /// small), else search without the lift: the intermediate sites only need to lie on the input.
+    int fullProjectionIterations = 1;
     int threads = 0;                   ///< worker threads; 0 = all cores (the result does not depend on it)
     LocalOpsGuards guards;             ///< thresholds of the local operations
     bool preserveVolume = true;        ///< finally offset each closed component along its vertex normals so
@@ -550,6 +557,7 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
     Progress(cb, 0.1 + 0.9 * it / std::max(1, params.iterations), "CVT: Lloyd relaxation");
     phase = now();
     if (params.matchVertexCount && it < std::max(1, params.iterations / 3)) matchCount();
+    const bool fullProjection = it >= params.iterations - params.fullProjectionIterations;
     result.secondsSampling += since(phase);
     phase = now();
 
@@ -631,7 +639,9 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
           moveLength[i] = 0.0;
           continue;
         }
-        const SurfaceProjection proj = reference->Project(c, ops.Footpoint(m.vert[vi]), scratch[t]);
+        SurfaceProjection proj;
+        if (!fullProjection) proj = reference->ProjectInsideFace(c, foot);
+        if (!proj.ok()) proj = reference->Project(c, foot, scratch[t], /*lift=*/fullProjection);
         target[i] = proj.point;
         targetFoot[i] = proj.face;
         moveLength[i] = proj.ok() ? (proj.point - position[vi]).SquaredNorm() : 0.0;

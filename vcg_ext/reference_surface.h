@@ -199,9 +199,28 @@ public:
 
   /// Closest point of the reference near p, found by a walk from hintFace (see the file
   /// comment). hintFace < 0 falls back to ProjectGlobal. Thread-safe with one Scratch per thread.
-  SurfaceProjection Project(const Point& p, int hintFace, Scratch& scratch) const;
+  /// lift = false: the closest point of the flat triangles, whatever Params::phongAlpha says.
+  SurfaceProjection Project(const Point& p, int hintFace, Scratch& scratch, bool lift = true) const;
   /// Same, with an internal scratch: not thread-safe.
   SurfaceProjection Project(const Point& p, int hintFace) const { return Project(p, hintFace, ownScratch_); }
+
+  /// The orthogonal projection of p onto the plane of face f when it falls inside f (returned on
+  /// f, not lifted), else a failed projection. No search, so not always the closest point: a
+  /// cheap step for iterated moves whose final positions get a proper Project. Thread-safe.
+  SurfaceProjection ProjectInsideFace(const Point& p, int f) const {
+    SurfaceProjection r;
+    if (f < 0 || std::size_t(f) >= faceCount_) return r;
+    const Face& face = faces_[f];
+    if (!(face.n.SquaredNorm() > 0)) return r;
+    const Point q = p - face.n * ((p - face.p[0]) * face.n);
+    for (int k = 0; k < 3; ++k)
+      if (((face.p[(k + 1) % 3] - face.p[k]) ^ (q - face.p[k])) * face.n < 0) return r;
+    r.point = q;
+    r.normal = face.n;
+    r.face = f;
+    r.distance = (q - p).Norm();
+    return r;
+  }
 
   /// Globally closest point of the reference (grid search). Thread-safe.
   SurfaceProjection ProjectGlobal(const Point& p) const;
@@ -579,10 +598,12 @@ void ReferenceSurface<MeshType>::ForEachFaceInBox(const vcg::Box3d& box, Scratch
 }
 
 template <class MeshType>
-SurfaceProjection ReferenceSurface<MeshType>::Project(const Point& p, int hintFace, Scratch& s) const {
+SurfaceProjection ReferenceSurface<MeshType>::Project(const Point& p, int hintFace, Scratch& s,
+                                                      bool lift) const {
+  lift = lift && params_.phongAlpha > 0;
   if (hintFace < 0 || std::size_t(hintFace) >= faceCount_) {
     SurfaceProjection global = ProjectGlobal(p);
-    if (global.ok() && params_.phongAlpha > 0) {
+    if (global.ok() && lift) {
       global.point = Lift(global.point, global.face);
       global.distance = (global.point - p).Norm();
     }
@@ -619,7 +640,7 @@ SurfaceProjection ReferenceSurface<MeshType>::Project(const Point& p, int hintFa
       s.stack_.push_back(g);
     }
   }
-  if (params_.phongAlpha > 0) {
+  if (lift) {
     best.point = Lift(best.point, best.face);
     best.distance = (best.point - p).Norm();
   }
