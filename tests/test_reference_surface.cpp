@@ -308,6 +308,53 @@ TEST(ReferenceSurface, PhongLiftIsBoundedAndLeavesCreasesFlat) {
   }
 }
 
+// The CVT's cheap step: the orthogonal projection onto the given face when it lands inside, else
+// nothing; and Project without the lift (the CVT's intermediate iterations) is the flat closest point.
+TEST(ReferenceSurface, ProjectInsideFaceAndUnliftedProjection) {
+  MeshD m;
+  Icosphere(m, 1);
+  Reference::Params params;
+  params.phongAlpha = 1;
+  Reference ref;
+  ASSERT_TRUE(ref.Build(m, params));
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-1, 1);
+  int inside = 0;
+  for (int i = 0; i < 300; ++i) {
+    Point d(u(rng), u(rng), u(rng));
+    d.Normalize();
+    const Point p = d * (0.95 + 0.1 * (u(rng) + 1) / 2);
+    const SurfaceProjection flat = ref.ProjectGlobal(p);
+    ASSERT_TRUE(flat.ok());
+    Reference::Scratch scratch;
+    const SurfaceProjection unlifted = ref.Project(p, flat.face, scratch, /*lift=*/false);
+    EXPECT_LT((unlifted.point - flat.point).Norm(), 1e-12);
+    // On the face that holds the closest point, the cheap step agrees with it when the
+    // orthogonal projection lands inside (the closest point is then interior), and refuses
+    // otherwise (the closest point then lies on the face's border).
+    const SurfaceProjection cheap = ref.ProjectInsideFace(p, flat.face);
+    const Point n = ref.FaceNormal(flat.face);
+    const Point q = p - n * ((p - ref.Corner(flat.face, 0)) * n);
+    if (cheap.ok()) {
+      ++inside;
+      EXPECT_EQ(cheap.face, flat.face);
+      EXPECT_LT((cheap.point - flat.point).Norm(), 1e-12);
+      EXPECT_LT((cheap.point - q).Norm(), 1e-12);
+    } else {
+      EXPECT_GT((q - flat.point).Norm(), 1e-12) << "refused although the projection is the closest point";
+    }
+    // Beyond a corner of that face (and off its plane): refused.
+    const Point centroid =
+        (ref.Corner(flat.face, 0) + ref.Corner(flat.face, 1) + ref.Corner(flat.face, 2)) / 3.0;
+    const Point beyond = ref.Corner(flat.face, 0) * 2.0 - centroid + n * 0.01;
+    EXPECT_FALSE(ref.ProjectInsideFace(beyond, flat.face).ok());
+    EXPECT_TRUE(ref.ProjectInsideFace(centroid + n * 0.01, flat.face).ok());
+  }
+  EXPECT_GT(inside, 150); // most points over a sphere's face project inside it
+  EXPECT_FALSE(ref.ProjectInsideFace(Point(0, 0, 1), -1).ok());
+  EXPECT_FALSE(ref.ProjectInsideFace(Point(0, 0, 1), int(ref.FaceCount())).ok());
+}
+
 TEST(ReferenceSurface, RealMeshLocalProjectionAgreesWithGlobalNearTheSurface) {
   MeshD m;
   std::string error;

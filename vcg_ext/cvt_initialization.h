@@ -557,9 +557,9 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
     Progress(cb, 0.1 + 0.9 * it / std::max(1, params.iterations), "CVT: Lloyd relaxation");
     phase = now();
     if (params.matchVertexCount && it < std::max(1, params.iterations / 3)) matchCount();
-    const bool fullProjection = it >= params.iterations - params.fullProjectionIterations;
     result.secondsSampling += since(phase);
     phase = now();
+    const bool fullProjection = it >= params.iterations - params.fullProjectionIterations;
 
     // Cell centroids, accumulated face by face: each thread owns a range of vertices and sums,
     // in face order, the faces with a corner it owns, so each vertex's sum runs in face order
