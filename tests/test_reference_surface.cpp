@@ -24,11 +24,23 @@ using molremesh::reference_detail::ClosestPointOnTriangle;
 using namespace molremesh::test;
 using Reference = ReferenceSurface<MeshD>;
 
-/// Projection onto the flat triangles themselves, for the tests of the walk.
-Reference::Params FlatParams() {
+/// Projection lifted by `alpha` toward the Phong surface (0: onto the flat triangles themselves,
+/// for the tests of the walk).
+Reference::Params LiftParams(double alpha) {
   Reference::Params params;
-  params.phongAlpha = 0;
+  params.phongAlpha = alpha;
   return params;
+}
+Reference::Params FlatParams() {
+  return LiftParams(0);
+}
+
+/// A uniformly random unit vector (three draws in [-1, 1], normalized).
+Point RandomDirection(std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  Point d(u(rng), u(rng), u(rng));
+  d.Normalize();
+  return d;
 }
 constexpr double kPi = 3.14159265358979323846;
 
@@ -131,8 +143,7 @@ TEST(ReferenceSurface, LocalProjectionFindsTheClosestPointOnASmoothSurface) {
   const double L = ref.MeanEdgeLength();
   for (int i = 0; i < 500; ++i) {
     // A point near the sphere, with a hint a fraction of an edge away from its closest face.
-    Point dir(u(rng), u(rng), u(rng));
-    dir.Normalize();
+    const Point dir = RandomDirection(rng);
     const Point p = dir * (1.0 + 0.1 * L * u(rng));
     const SurfaceProjection exact = BruteForce(ref, p);
     const Point nearby = dir + Point(u(rng), u(rng), u(rng)) * (0.5 * L);
@@ -202,8 +213,7 @@ TEST(ReferenceSurface, ParallelProjectionIsThreadSafeAndIdentical) {
   std::vector<Point> queries(20000);
   std::vector<int> hints(queries.size());
   for (std::size_t i = 0; i < queries.size(); ++i) {
-    Point d(u(rng), u(rng), u(rng));
-    d.Normalize();
+    const Point d = RandomDirection(rng);
     queries[i] = d * (1.0 + 0.02 * u(rng));
     hints[i] = ref.ProjectGlobal(d).face;
   }
@@ -244,15 +254,11 @@ TEST(ReferenceSurface, ComponentsClosednessAndVolumes) {
 TEST(ReferenceSurface, PhongLiftInterpolatesVerticesAndBulgesOutward) {
   MeshD m;
   Icosphere(m, 2);
-  Reference::Params params;
-  params.phongAlpha = 0.75;
   Reference ref;
-  ASSERT_TRUE(ref.Build(m, params));
+  ASSERT_TRUE(ref.Build(m, LiftParams(0.75)));
   std::mt19937 rng(9);
-  std::uniform_real_distribution<double> u(-1, 1);
   for (int i = 0; i < 200; ++i) {
-    Point d(u(rng), u(rng), u(rng));
-    d.Normalize();
+    const Point d = RandomDirection(rng);
     const SurfaceProjection flat = ref.ProjectGlobal(d * 0.9);
     const SurfaceProjection lifted = ref.Project(d * 0.9, flat.face);
     // Inside the faces the lifted surface is outside the flat triangles and closer to the sphere.
@@ -267,7 +273,7 @@ TEST(ReferenceSurface, PhongLiftInterpolatesVerticesAndBulgesOutward) {
   MeshD grid;
   Grid(grid, 4, 1.0);
   Reference flatRef;
-  ASSERT_TRUE(flatRef.Build(grid, params));
+  ASSERT_TRUE(flatRef.Build(grid, LiftParams(0.75)));
   const SurfaceProjection p = flatRef.Project(Point(0.37, 0.41, 0.3), 0);
   EXPECT_NEAR(p.point[2], 0.0, 1e-12);
 }
@@ -275,8 +281,7 @@ TEST(ReferenceSurface, PhongLiftInterpolatesVerticesAndBulgesOutward) {
 TEST(ReferenceSurface, PhongLiftIsBoundedAndLeavesCreasesFlat) {
   MeshD m;
   Icosphere(m, 1);
-  Reference::Params params;
-  params.phongAlpha = 1;
+  Reference::Params params = LiftParams(1);
   params.phongMaxLift = 0.01;
   Reference ref;
   ASSERT_TRUE(ref.Build(m, params));
@@ -285,8 +290,7 @@ TEST(ReferenceSurface, PhongLiftIsBoundedAndLeavesCreasesFlat) {
   std::uniform_real_distribution<double> u(-1, 1);
   double largest = 0;
   for (int i = 0; i < 200; ++i) {
-    Point d(u(rng), u(rng), u(rng));
-    d.Normalize();
+    const Point d = RandomDirection(rng);
     const SurfaceProjection flat = ref.ProjectGlobal(d * 0.9);
     const SurfaceProjection lifted = ref.Project(d * 0.9, flat.face);
     largest = std::max(largest, (lifted.point - flat.point).Norm());
@@ -313,16 +317,13 @@ TEST(ReferenceSurface, PhongLiftIsBoundedAndLeavesCreasesFlat) {
 TEST(ReferenceSurface, ProjectInsideFaceAndUnliftedProjection) {
   MeshD m;
   Icosphere(m, 1);
-  Reference::Params params;
-  params.phongAlpha = 1;
   Reference ref;
-  ASSERT_TRUE(ref.Build(m, params));
+  ASSERT_TRUE(ref.Build(m, LiftParams(1)));
   std::mt19937 rng(9);
   std::uniform_real_distribution<double> u(-1, 1);
   int inside = 0;
   for (int i = 0; i < 300; ++i) {
-    Point d(u(rng), u(rng), u(rng));
-    d.Normalize();
+    const Point d = RandomDirection(rng);
     const Point p = d * (0.95 + 0.1 * (u(rng) + 1) / 2);
     const SurfaceProjection flat = ref.ProjectGlobal(p);
     ASSERT_TRUE(flat.ok());

@@ -213,8 +213,8 @@ public:
     const Face& face = faces_[f];
     if (!(face.n.SquaredNorm() > 0)) return r;
     const Point q = p - face.n * ((p - face.p[0]) * face.n);
-    for (int k = 0; k < 3; ++k)
-      if (((face.p[(k + 1) % 3] - face.p[k]) ^ (q - face.p[k])) * face.n < 0) return r;
+    std::array<double, 3> b{};
+    if (!Barycentrics(q, f, b) || b[0] < 0 || b[1] < 0 || b[2] < 0) return r;
     r.point = q;
     r.normal = face.n;
     r.face = f;
@@ -235,6 +235,16 @@ private:
   };
   /// q (a point of face f) moved onto the Phong-tessellated surface, blended by phongAlpha.
   Point Lift(const Point& q, int f) const;
+  /// Barycentric coordinates of q (a point in the plane of face f) from the sub-triangle areas
+  /// along the face's normal: negative outside the face. False for a degenerate face.
+  bool Barycentrics(const Point& q, int f, std::array<double, 3>& b) const {
+    const Face& face = faces_[f];
+    const Point n = (face.p[1] - face.p[0]) ^ (face.p[2] - face.p[0]);
+    const double n2 = n.SquaredNorm();
+    if (!(n2 > 0)) return false;
+    for (int k = 0; k < 3; ++k) b[k] = ((face.p[(k + 1) % 3] - q) ^ (face.p[(k + 2) % 3] - q)) * n / n2;
+    return true;
+  }
 
   SurfaceProjection ClosestOnFace(const Point& p, int f) const {
     SurfaceProjection r;
@@ -508,13 +518,9 @@ template <class MeshType>
 vcg::Point3d ReferenceSurface<MeshType>::Lift(const Point& q, int f) const {
   if (!(params_.phongAlpha > 0) || !(liftWeight_[f] > 0)) return q;
   const Face& face = faces_[f];
-  // Barycentric coordinates of q (on the face) from sub-triangle areas along the face normal.
-  const Point n = (face.p[1] - face.p[0]) ^ (face.p[2] - face.p[0]);
-  const double n2 = n.SquaredNorm();
-  if (!(n2 > 0)) return q;
   std::array<double, 3> b{};
-  for (int k = 0; k < 3; ++k)
-    b[k] = std::max(0.0, ((face.p[(k + 1) % 3] - q) ^ (face.p[(k + 2) % 3] - q)) * n / n2);
+  if (!Barycentrics(q, f, b)) return q;
+  for (double& bk : b) bk = std::max(0.0, bk);
   const double sum = b[0] + b[1] + b[2];
   if (!(sum > 0)) return q;
   // Phong tessellation: the barycentric blend of q's projections onto the corners' tangent planes.
