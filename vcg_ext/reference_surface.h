@@ -204,17 +204,36 @@ public:
   /// Same, with an internal scratch: not thread-safe.
   SurfaceProjection Project(const Point& p, int hintFace) const { return Project(p, hintFace, ownScratch_); }
 
+  /// What the reference keeps of a face: corners and unit normal, 96 bytes. The projections read
+  /// a face's record at random, once per vertex and iteration, so its size is what they wait
+  /// for; a caller that reads the same face again and again may keep a copy (Record).
+  struct FaceRecord {
+    std::array<Point, 3> p{Point(0, 0, 0), Point(0, 0, 0), Point(0, 0, 0)}; ///< corners
+    Point n{0, 0, 0};                                                       ///< unit normal, 0 if degenerate
+    /// The exact bounding box, recomputed where needed (the float box is kept apart).
+    vcg::Box3d Box() const {
+      vcg::Box3d b;
+      for (const Point& c : p) b.Add(c);
+      return b;
+    }
+  };
+  /// The record of reference face f.
+  const FaceRecord& Record(int f) const { return faces_[f]; }
+
   /// The orthogonal projection of p onto the plane of face f when it falls inside f (returned on
   /// f, not lifted), else a failed projection. No search, so not always the closest point: a
   /// cheap step for iterated moves whose final positions get a proper Project. Thread-safe.
   SurfaceProjection ProjectInsideFace(const Point& p, int f) const {
+    if (f < 0 || std::size_t(f) >= faceCount_) return SurfaceProjection();
+    return ProjectInsideFace(p, faces_[f], f);
+  }
+  /// The same from a copy of face f's record.
+  static SurfaceProjection ProjectInsideFace(const Point& p, const FaceRecord& face, int f) {
     SurfaceProjection r;
-    if (f < 0 || std::size_t(f) >= faceCount_) return r;
-    const Face& face = faces_[f];
     if (!(face.n.SquaredNorm() > 0)) return r;
     const Point q = p - face.n * ((p - face.p[0]) * face.n);
     std::array<double, 3> b{};
-    if (!Barycentrics(q, f, b) || b[0] < 0 || b[1] < 0 || b[2] < 0) return r;
+    if (!Barycentrics(q, face, b) || b[0] < 0 || b[1] < 0 || b[2] < 0) return r;
     r.point = q;
     r.normal = face.n;
     r.face = f;
@@ -228,17 +247,15 @@ public:
   double Distance(const Point& p) const { return ProjectGlobal(p).distance; }
 
 private:
-  struct Face {
-    std::array<Point, 3> p{Point(0, 0, 0), Point(0, 0, 0), Point(0, 0, 0)}; ///< corners
-    Point n{0, 0, 0};                                                       ///< unit normal, 0 if degenerate
-    vcg::Box3d box;
-  };
+  using Face = FaceRecord;
   /// q (a point of face f) moved onto the Phong-tessellated surface, blended by phongAlpha.
   Point Lift(const Point& q, int f) const;
   /// Barycentric coordinates of q (a point in the plane of face f) from the sub-triangle areas
   /// along the face's normal: negative outside the face. False for a degenerate face.
   bool Barycentrics(const Point& q, int f, std::array<double, 3>& b) const {
-    const Face& face = faces_[f];
+    return Barycentrics(q, faces_[f], b);
+  }
+  static bool Barycentrics(const Point& q, const Face& face, std::array<double, 3>& b) {
     const Point n = (face.p[1] - face.p[0]) ^ (face.p[2] - face.p[0]);
     const double n2 = n.SquaredNorm();
     if (!(n2 > 0)) return false;
@@ -345,7 +362,6 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
         return false;
       }
       tri[k] = std::uint32_t(f.cV(k) - vertBegin);
-      face.box.Add(face.p[k]);
     }
     const Point n = (face.p[1] - face.p[0]) ^ (face.p[2] - face.p[0]);
     const double len = n.Norm();
@@ -353,7 +369,7 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
     area_ += 0.5 * len;
     for (int k = 0; k < 3; ++k) edgeSum += (face.p[(k + 1) % 3] - face.p[k]).Norm();
     edgeCount += 3;
-    box_.Add(face.box);
+    box_.Add(face.Box());
     referenceOf_[i] = int(faces_.size());
     sourceFace_.push_back(i);
     faces_.push_back(face);
@@ -361,7 +377,7 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
   }
   faceCount_ = faces_.size();
   compactBox_.resize(faceCount_);
-  for (std::size_t f = 0; f < faceCount_; ++f) compactBox_[f] = FloatBox::Outward(faces_[f].box);
+  for (std::size_t f = 0; f < faceCount_; ++f) compactBox_[f] = FloatBox::Outward(faces_[f].Box());
   {
     std::vector<int> seen(m.vert.size(), -1);
     vertices_.clear();
@@ -497,7 +513,7 @@ void ReferenceSurface<MeshType>::BuildGrid() {
   const std::size_t cellCount = std::size_t(dims_[0]) * dims_[1] * dims_[2];
   cellStart_.assign(cellCount + 1, 0);
   for (const Face& f : faces_) {
-    const std::array<int, 6> r = CellRange(f.box);
+    const std::array<int, 6> r = CellRange(f.Box());
     for (int z = r[2]; z <= r[5]; ++z)
       for (int y = r[1]; y <= r[4]; ++y)
         for (int x = r[0]; x <= r[3]; ++x) ++cellStart_[(std::size_t(z) * dims_[1] + y) * dims_[0] + x + 1];
@@ -506,7 +522,7 @@ void ReferenceSurface<MeshType>::BuildGrid() {
   cellFaces_.resize(cellStart_[cellCount]);
   std::vector<std::uint32_t> fill(cellStart_.begin(), cellStart_.end() - 1);
   for (std::size_t fi = 0; fi < faceCount_; ++fi) {
-    const std::array<int, 6> r = CellRange(faces_[fi].box);
+    const std::array<int, 6> r = CellRange(faces_[fi].Box());
     for (int z = r[2]; z <= r[5]; ++z)
       for (int y = r[1]; y <= r[4]; ++y)
         for (int x = r[0]; x <= r[3]; ++x)
@@ -560,7 +576,8 @@ SurfaceProjection ReferenceSurface<MeshType>::ProjectGlobal(const Point& p) cons
           const std::size_t c = (std::size_t(z) * dims_[1] + y) * dims_[0] + x;
           for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
             const int f = int(cellFaces_[k]);
-            if (reference_detail::SquaredDistanceToBox(p, faces_[f].box) >= best.distance * best.distance) continue;
+            if (reference_detail::SquaredDistanceToBox(p, faces_[f].Box()) >= best.distance * best.distance)
+              continue;
             const SurfaceProjection candidate = ClosestOnFace(p, f);
             if (candidate.distance < best.distance || (candidate.distance == best.distance && f < best.face))
               best = candidate;
@@ -598,7 +615,7 @@ void ReferenceSurface<MeshType>::ForEachFaceInBox(const vcg::Box3d& box, Scratch
           const std::uint32_t f = cellFaces_[k];
           if (s.visited_[f] == s.stamp_) continue;
           s.visited_[f] = s.stamp_;
-          if (touch(faces_[f].box, box)) visit(int(f));
+          if (touch(faces_[f].Box(), box)) visit(int(f));
         }
       }
 }
@@ -639,7 +656,7 @@ SurfaceProjection ReferenceSurface<MeshType>::Project(const Point& p, int hintFa
       // The float box contains the exact one, so it rejects only faces the exact test rejects.
       if (reference_detail::SquaredDistanceToBox(p, compactBox_[g]) > radius2) continue;
       if (filterNormals && face.n.SquaredNorm() > 0 && face.n * hintNormal < cosMaxNormalAngle_) continue;
-      if (reference_detail::SquaredDistanceToBox(p, face.box) > radius2) continue;
+      if (reference_detail::SquaredDistanceToBox(p, face.Box()) > radius2) continue;
       const SurfaceProjection candidate = ClosestOnFace(p, g);
       if (candidate.distance * candidate.distance > radius2) continue;
       if (candidate.distance < best.distance) best = candidate;
