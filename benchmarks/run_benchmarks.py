@@ -670,6 +670,34 @@ def describe_run(args, methods):
     return "\n".join(lines)
 
 
+# --- Machine calibration ----------------------------------------------------------------------------
+
+# A fixed CPU-bound loop (no memory traffic), run by a child Python process.
+_SPIN = "import time\nt = time.perf_counter()\ns = 0\nfor i in range(%d): s += i\nprint(time.perf_counter() - t)"
+
+
+def parallel_throughput(loops=15000000):
+    """How much two CPU-bound processes get done together, relative to one alone: 2.0 on two real cores,
+    1.0 when the two 'cores' share one. The figure moves during a run on a shared virtual machine, so it is
+    measured before and after the methods run; it says how far the parallel stages could help."""
+    code = _SPIN % loops
+
+    def spin(count):
+        procs = [subprocess.Popen([sys.executable, "-c", code], stdout=subprocess.PIPE, text=True)
+                 for _ in range(count)]
+        return [float(p.communicate()[0]) for p in procs]
+
+    alone = min(spin(1)[0] for _ in range(2))
+    together = spin(2)
+    return round(2.0 * alone / max(together), 2), round(alone, 2), [round(t, 2) for t in together]
+
+
+def describe_throughput(label, measured):
+    factor, alone, together = measured
+    return ("- Parallel throughput %s: %.2f (one CPU-bound process %.2f s alone, two at once %s s; 2.00 = two "
+            "cores, 1.00 = one shared core)." % (label, factor, alone, " and ".join("%.2f" % t for t in together)))
+
+
 # --- Main -----------------------------------------------------------------------------------------
 
 
@@ -777,7 +805,11 @@ def main():
         for res in results:
             print("\n### %s (L = %.4f)\n\n%s\n" % (res["mesh"], res["target_edge_length"], mesh_table(res)))
     else:
+        throughput = [describe_throughput("before the run", parallel_throughput())]
+        print(throughput[0])
         results = run_all(args, skip, methods)
+        throughput.append(describe_throughput("after the run", parallel_throughput()))
+        print(throughput[1])
 
     summary = summary_table(results, methods)
     print("\n### Summary over %d meshes\n\n%s\n" % (len(results), summary))
@@ -785,8 +817,10 @@ def main():
               "θmax, Hausdorff/L and the absolute volume change the largest; θmin and Qmin the smallest; the "
               "percentages are medians; TetGen ok counts successes.")
     if args.out != "-":
-        parts = ["# molremesh benchmark results", "", describe_run(args, methods), "", "## Summary", "", summary, "",
-                 legend, ""]
+        parts = ["# molremesh benchmark results", "", describe_run(args, methods), ""]
+        if not args.from_json:
+            parts += ["Machine:", ""] + throughput + [""]
+        parts += ["## Summary", "", summary, "", legend, ""]
         for res in results:
             parts += ["## %s" % res["mesh"], "",
                       "L = %.4f, bounding-box diagonal %.2f." % (res["target_edge_length"], res["bbox_diagonal"]),
