@@ -243,8 +243,11 @@ public:
   /// lazyFootpoints: find no footpoint now; the caller calls EnsureFootpoint on every vertex of
   /// the faces an operation will touch before it (for stages that edit only a few places of a
   /// large mesh, where the global search for every vertex would cost more than the edits).
+  /// globalFeet (indexed like m.vert): for each vertex, what the global search
+  /// (ReferenceSurface::ProjectGlobal) returns for its current position, found by the caller for
+  /// several meshes sharing vertices (the patches and their halos); -1 = search here.
   bool Init(std::string* error = nullptr, bool meshIsReference = false, bool topologyReady = false,
-            bool lazyFootpoints = false);
+            bool lazyFootpoints = false, const std::vector<int>* globalFeet = nullptr);
   /// Finds v's footpoint if Init(lazyFootpoints) left it unknown (no-op otherwise).
   void EnsureFootpoint(const VertexType& v) {
     int& foot = foot_[VIndex(v)];
@@ -685,7 +688,7 @@ bool LocalRemeshingOps<MeshType>::PrepareTopology(MeshType& m, std::string* erro
 
 template <class MeshType>
 bool LocalRemeshingOps<MeshType>::Init(std::string* error, bool meshIsReference, bool topologyReady,
-                                       bool lazyFootpoints) {
+                                       bool lazyFootpoints, const std::vector<int>* globalFeet) {
   auto fail = [&](const std::string& message) {
     if (error) *error = message;
     return false;
@@ -725,6 +728,11 @@ bool LocalRemeshingOps<MeshType>::Init(std::string* error, bool meshIsReference,
     const VertexType& v = m_.vert[i];
     if (v.IsD() || v.cVFp() == nullptr) continue;
     needsSearch[i] = 1;
+    if (globalFeet != nullptr && i < globalFeet->size() && (*globalFeet)[i] >= 0) {
+      foot_[i] = (*globalFeet)[i];
+      needsSearch[i] = 0;
+      continue;
+    }
     if (!meshIsReference) continue;
     const int rf = ref_.ReferenceFaceOf(FIndex(*v.cVFp()));
     if (rf < 0) continue;
