@@ -142,6 +142,35 @@ TEST(LocalRemeshingOps, InitRefusesNonManifoldMisorientedAndRepeatedVertices) {
 
 // --- Split ---------------------------------------------------------------------------------------
 
+TEST(LocalRemeshingOps, InitTakesKnownGlobalFootpointsAndSearchesTheRest) {
+  // The reference is a finer sphere, so each vertex's footpoint takes a search. Footpoints handed
+  // to Init (every other vertex, as ProjectGlobal finds them) are kept, the others searched.
+  MeshD fine;
+  Icosphere(fine, 3);
+  ReferenceSurface<MeshD> ref;
+  ASSERT_TRUE(ref.Build(fine));
+  MeshD a, b;
+  Icosphere(a, 1);
+  Icosphere(b, 1);
+  std::vector<int> known(b.vert.size(), -1);
+  for (std::size_t i = 0; i < b.vert.size(); i += 2)
+    known[i] = ref.ProjectGlobal(LocalRemeshingOps<MeshD>::ToPoint(b.vert[i].cP())).face;
+  // Vertex 1's is a face the search would not find: Init takes what it is given, unchecked.
+  known[1] =
+      (ref.ProjectGlobal(LocalRemeshingOps<MeshD>::ToPoint(b.vert[1].cP())).face + 1) % int(ref.FaceCount());
+  LocalRemeshingOps<MeshD> searched(a, ref, ref.MeanEdgeLength()), given(b, ref, ref.MeanEdgeLength());
+  std::string error;
+  ASSERT_TRUE(searched.Init(&error)) << error;
+  ASSERT_TRUE(given.Init(&error, false, false, false, &known)) << error;
+  EXPECT_EQ(given.Footpoint(b.vert[1]), known[1]);
+  for (std::size_t i = 0; i < a.vert.size(); ++i) {
+    EXPECT_GE(searched.Footpoint(a.vert[i]), 0);
+    if (i != 1) {
+      EXPECT_EQ(given.Footpoint(b.vert[i]), searched.Footpoint(a.vert[i])) << "vertex " << i;
+    }
+  }
+}
+
 TEST(LocalRemeshingOps, SplitInteriorAndBorderEdges) {
   OpsSetup<MeshD> s;
   Grid(s.m, 4, 4.0);

@@ -334,6 +334,9 @@ TEST(ReferenceSurface, ProjectInsideFaceAndUnliftedProjection) {
     // orthogonal projection lands inside (the closest point is then interior), and refuses
     // otherwise (the closest point then lies on the face's border).
     const SurfaceProjection cheap = ref.ProjectInsideFace(p, flat.face);
+    const SurfaceProjection fromCopy = Reference::ProjectInsideFace(p, ref.Record(flat.face), flat.face);
+    EXPECT_EQ(fromCopy.ok(), cheap.ok());
+    EXPECT_EQ(fromCopy.point, cheap.point);
     const Point n = ref.FaceNormal(flat.face);
     const Point q = p - n * ((p - ref.Corner(flat.face, 0)) * n);
     if (cheap.ok()) {
