@@ -14,7 +14,9 @@
 //     patch never pushes a face through a sheet of another patch lying a fraction of an edge
 //     length away. Vertices are only created or moved inside the patch's cells dilated by one,
 //     so the halo always covers everything a new face can touch. Halo vertices whose faces do
-//     not form a single fan (at the halo's outer rim) are split per fan. Each patch is remeshed
+//     not form a single fan (at the halo's outer rim) are split per fan. Every vertex's footpoint
+//     on the reference is searched once, before the patches, and handed to each patch holding it
+//     (as a patch vertex or in its halo). Each patch is remeshed
 //     single-threaded; patches run in parallel (Params::threads) and their results depend only
 //     on their input, so the output is bit-identical for any thread count;
 //  3. stitching: border vertices come first in the stitched mesh (in the input's vertex
