@@ -112,6 +112,8 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.seed = options.seed;
   params.threads = options.threads;
   params.intersectionsEachStage = options.checkEachStage;
+  // On failure nothing is written, so no copy of the input (as large as the input) is kept.
+  params.restoreOnFailure = false;
   params.cvt.iterations = options.cvtIterations;
   params.reference.phongAlpha = options.surfaceLift;
   params.segment.patchCount = options.patches;

@@ -336,6 +336,41 @@ TEST(PatchwiseRemeshing, PipelineRarStageSegmentsFirstWhenSegmentDidNotRun) {
   EXPECT_EQ(r.stages[1].after.selfIntersectingPairs, 0u);
 }
 
+// A stage that fails puts the input back by default (what the plugin's layers rely on); a caller
+// that drops the mesh on failure (the CLI) may skip that copy and gets the last completed stage's
+// result, still a valid mesh.
+TEST(PatchwiseRemeshing, PipelinePutsTheInputBackWhenAStageFailsUnlessToldNotTo) {
+  MeshD input;
+  molremesh::test::Icosphere(input, 4, Point(0, 0, 0), Point(10, 10, 10));
+  MeshD speck; // 20 faces: under 1 % of the faces, so the clean stage removes it
+  molremesh::test::Icosphere(speck, 0, Point(30, 0, 0));
+  molremesh::test::AppendMesh(input, speck);
+  const int inputFaces = input.fn, inputVertices = input.vn;
+  Pipeline::Params params;
+  params.stages = {molremesh::PipelineStage::Clean, molremesh::PipelineStage::Cvt};
+  params.cvt.iterations = -1; // the CVT stage refuses it, after the clean stage changed the mesh
+  for (const bool restore : {true, false}) {
+    SCOPED_TRACE(restore ? "restoreOnFailure" : "no restore");
+    MeshD m;
+    vcg::tri::Append<MeshD, MeshD>::MeshCopy(m, input);
+    params.restoreOnFailure = restore;
+    const molremesh::PipelineResult r = Pipeline::Do(m, params);
+    ASSERT_FALSE(r.ok);
+    EXPECT_NE(r.message.find("stage 'cvt' failed"), std::string::npos) << r.message;
+    EXPECT_EQ(r.message.find("the mesh is unchanged") != std::string::npos, restore) << r.message;
+    if (restore) {
+      ASSERT_EQ(m.fn, inputFaces);
+      ASSERT_EQ(m.vn, inputVertices);
+      for (std::size_t i = 0; i < input.vert.size(); ++i) EXPECT_EQ(m.vert[i].cP(), input.vert[i].cP());
+    } else {
+      EXPECT_EQ(m.fn, inputFaces - 20); // the clean stage's result
+      const molremesh::QualityReport after = Quality::Compute(m);
+      EXPECT_TRUE(after.isTwoManifold());
+      EXPECT_EQ(after.components, 1u);
+    }
+  }
+}
+
 // --- Acceptance figures: clean, cvt, segment, rar on 1UBQ (EDTSurf) --------------------------------
 
 class PatchwiseRemeshingUbiquitin : public ::testing::Test {

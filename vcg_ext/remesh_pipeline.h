@@ -137,6 +137,11 @@ public:
     /// Count self-intersecting pairs in every stage's report; otherwise only in the input's and the
     /// last stage's (every edit already refuses new intersections; the count is the slowest figure).
     bool intersectionsEachStage = true;
+    /// Keep a copy of the input to put back into m when a stage fails (m is then unchanged). The
+    /// copy is as large as the input mesh; a caller that drops m on failure (the CLI, which then
+    /// writes nothing) turns it off; m then holds the last completed stage's result (every stage
+    /// leaves the mesh as it was when it fails).
+    bool restoreOnFailure = true;
     /// The input surface the stages from CVT on project onto (built once, from the cleaned mesh);
     /// reference.phongAlpha is the share of the bounded lift toward its Phong surface, applied only
     /// when the run includes both the CVT and the RAR stage (see ensureReference in Do).
@@ -225,16 +230,19 @@ public:
     };
 
     MeshType backup;
-    vcg::tri::Append<MeshType, MeshType>::MeshCopy(backup, m);
+    if (params.restoreOnFailure) vcg::tri::Append<MeshType, MeshType>::MeshCopy(backup, m);
     auto fail = [&](PipelineStageRecord& record, const std::string& why) {
       record.ok = false;
       record.summary = why;
       result.stages.push_back(record);
       result.ok = false;
-      result.message = std::string("stage '") + record.name + "' failed: " + why + " (the mesh is unchanged)";
+      result.message = std::string("stage '") + record.name + "' failed: " + why;
       resolveReports();
-      vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, backup);
-      UpdateAdjacency(m);
+      if (params.restoreOnFailure) {
+        result.message += " (the mesh is unchanged)";
+        vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, backup);
+        UpdateAdjacency(m);
+      }
       say(result.message);
       return result;
     };
