@@ -222,6 +222,12 @@ private:
   static PatchResult OriginalPatch(const Global& g, int p);
   static PatchResult RemeshPatch(const Global& g, const CellIndex& index, const Context& ctx, int p, int haloCells);
   static void Stitch(const Context& ctx, const std::vector<PatchResult>& results, Global& out);
+  /// Empties m and frees its elements' memory (Clear keeps the vectors' capacity).
+  static void ReleaseMesh(MeshType& m) {
+    m.Clear();
+    typename MeshType::VertContainer().swap(m.vert);
+    typename MeshType::FaceContainer().swap(m.face);
+  }
   /// Pairs of faces of different patches that intersect (LocalRemeshingOps' predicates), sorted.
   static std::vector<std::pair<std::uint32_t, std::uint32_t>> CrossPatchIntersections(const Global& g, double L0,
                                                                                       int threads);
@@ -923,6 +929,10 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
       }, 1);
     }
     result.secondsPatches = rar_detail::Seconds(phase);
+    // From here on the stitched mesh and the patches' original faces (`original`) are all that is
+    // read: the copy of the input goes before the strip pass's mesh grows, so that its memory is
+    // reused there (on 4JSV about 90 MB less at the peak).
+    ReleaseMesh(g0.mesh);
 
     // --- 3. Stitch; 4. verify and redo conflicting patches -------------------------------------
     phase = Clock::now();
