@@ -247,15 +247,11 @@ public:
   double Distance(const Point& p) const { return ProjectGlobal(p).distance; }
 
 private:
-  using Face = FaceRecord;
   /// q (a point of face f) moved onto the Phong-tessellated surface, blended by phongAlpha.
   Point Lift(const Point& q, int f) const;
-  /// Barycentric coordinates of q (a point in the plane of face f) from the sub-triangle areas
+  /// Barycentric coordinates of q (a point in the plane of the face) from the sub-triangle areas
   /// along the face's normal: negative outside the face. False for a degenerate face.
-  bool Barycentrics(const Point& q, int f, std::array<double, 3>& b) const {
-    return Barycentrics(q, faces_[f], b);
-  }
-  static bool Barycentrics(const Point& q, const Face& face, std::array<double, 3>& b) {
+  static bool Barycentrics(const Point& q, const FaceRecord& face, std::array<double, 3>& b) {
     const Point n = (face.p[1] - face.p[0]) ^ (face.p[2] - face.p[0]);
     const double n2 = n.SquaredNorm();
     if (!(n2 > 0)) return false;
@@ -265,7 +261,7 @@ private:
 
   SurfaceProjection ClosestOnFace(const Point& p, int f) const {
     SurfaceProjection r;
-    const Face& face = faces_[f];
+    const FaceRecord& face = faces_[f];
     r.point = reference_detail::ClosestPointOnTriangle(p, face.p[0], face.p[1], face.p[2]);
     r.normal = face.n;
     r.face = f;
@@ -297,7 +293,7 @@ private:
 
   Params params_;
   std::size_t faceCount_ = 0;
-  std::vector<Face> faces_;
+  std::vector<FaceRecord> faces_;
   /// Each face's box rounded outward to float: Project's walk rejects most faces it looks at by
   /// their box, and this array is a sixth of faces_, so the rejections mostly hit the cache.
   std::vector<FloatBox> compactBox_;
@@ -351,7 +347,7 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
     const auto& f = m.face[i];
     if (f.IsD() || f.cV(0) == nullptr || f.cV(1) == nullptr || f.cV(2) == nullptr) continue;
     if (f.cV(0) == f.cV(1) || f.cV(1) == f.cV(2) || f.cV(2) == f.cV(0)) continue;
-    Face face;
+    FaceRecord face;
     std::array<std::uint32_t, 3> tri{};
     for (int k = 0; k < 3; ++k) {
       const auto& c = f.cV(k)->cP();
@@ -485,7 +481,7 @@ void ReferenceSurface<MeshType>::BuildAdjacency(const std::vector<std::array<std
     while (!stack.empty()) {
       const int f = stack.back();
       stack.pop_back();
-      const Face& face = faces_[f];
+      const FaceRecord& face = faces_[f];
       componentVolume_[c] += ((face.p[0] - origin) * ((face.p[1] - origin) ^ (face.p[2] - origin))) / 6.0;
       if (onOddEdge[f]) componentClosed_[c] = false;
       for (std::uint32_t k = neighborStart_[f]; k < neighborStart_[f + 1]; ++k)
@@ -512,7 +508,7 @@ void ReferenceSurface<MeshType>::BuildGrid() {
   for (int k = 0; k < 3; ++k) dims_[k] = int(std::floor(extent[k] / cell_)) + 1;
   const std::size_t cellCount = std::size_t(dims_[0]) * dims_[1] * dims_[2];
   cellStart_.assign(cellCount + 1, 0);
-  for (const Face& f : faces_) {
+  for (const FaceRecord& f : faces_) {
     const std::array<int, 6> r = CellRange(f.Box());
     for (int z = r[2]; z <= r[5]; ++z)
       for (int y = r[1]; y <= r[4]; ++y)
@@ -533,9 +529,9 @@ void ReferenceSurface<MeshType>::BuildGrid() {
 template <class MeshType>
 vcg::Point3d ReferenceSurface<MeshType>::Lift(const Point& q, int f) const {
   if (!(params_.phongAlpha > 0) || !(liftWeight_[f] > 0)) return q;
-  const Face& face = faces_[f];
+  const FaceRecord& face = faces_[f];
   std::array<double, 3> b{};
-  if (!Barycentrics(q, f, b)) return q;
+  if (!Barycentrics(q, face, b)) return q;
   for (double& bk : b) bk = std::max(0.0, bk);
   const double sum = b[0] + b[1] + b[2];
   if (!(sum > 0)) return q;
@@ -652,7 +648,7 @@ SurfaceProjection ReferenceSurface<MeshType>::Project(const Point& p, int hintFa
       if (s.visited_[g] == s.stamp_) continue;
       s.visited_[g] = s.stamp_;
       ++visitedCount;
-      const Face& face = faces_[g];
+      const FaceRecord& face = faces_[g];
       // The float box contains the exact one, so it rejects only faces the exact test rejects.
       if (reference_detail::SquaredDistanceToBox(p, compactBox_[g]) > radius2) continue;
       if (filterNormals && face.n.SquaredNorm() > 0 && face.n * hintNormal < cosMaxNormalAngle_) continue;
