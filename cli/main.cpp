@@ -1,7 +1,10 @@
 // molremesh: command-line front end for batch jobs. Parse, call vcg_ext, report.
 //
 // Every failure is one line on stderr starting with "molremesh: error:" and a non-zero exit
-// status (2 for unusable input, 1 for command-line mistakes); never a crash.
+// status (2 for unusable input, 1 for command-line mistakes); never a crash. A remeshed output
+// that is written but not valid (self-intersections the input's unrepairable tangles left, say)
+// exits with status 3 and says why on stderr, as "molremesh: warning:" lines do for the targets a
+// valid output misses (status 0).
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
@@ -29,6 +32,7 @@ namespace {
 using molremesh::MeshD;
 
 constexpr int kExitBadInput = 2;
+constexpr int kExitInvalidOutput = 3; ///< the output was written, but it is not a valid surface mesh
 
 struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -167,7 +171,18 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
                              {"seconds", stage.seconds},
                              {"summary", stage.summary},
                              {"after", molremesh::ToJson(stage.after)}});
+    j["verdict"] = {{"valid", result.verdict.Valid()},
+                    {"all_targets_met", result.verdict.AllMet()},
+                    {"invalid", result.verdict.invalid},
+                    {"short_of", result.verdict.shortOf}};
     std::ofstream(options.jsonPath) << j.dump(2) << '\n';
+  }
+  // Not progress: printed with --quiet too.
+  std::cerr << result.verdict.Lines("molremesh: warning: " + output + " ");
+  if (!result.verdict.Valid()) {
+    std::cerr << "molremesh: warning: " << output
+              << " was written but is not a valid surface mesh (exit status " << kExitInvalidOutput << ")\n";
+    return kExitInvalidOutput;
   }
   return 0;
 }

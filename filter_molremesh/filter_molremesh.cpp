@@ -564,6 +564,10 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
   for (const auto& stage : result.stages) times << ' ' << stage.name << '=' << stage.seconds;
   times << " total=" << result.seconds;
   Log(times.str().c_str());
+  // The layer takes the result either way (it is better than the input), but never in silence
+  // when it misses a promise: the warnings say what and why.
+  LogLines([this](const std::string& line) { Log(GLLogStream::WARNING, line.c_str()); },
+           result.verdict.Lines("Warning: the result is "));
 
   // Success: replace the layer's triangles. Old per-element colors and qualities described the
   // old triangles, so they are dropped with them.

@@ -2,6 +2,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <vcg_ext/mesh_io.h>
+#include <vcg_ext/mesh_types.h>
+
+#include "remeshing_test_meshes.h"
 #include "test_helpers.h"
 
 using namespace molremesh::test;
@@ -204,5 +208,67 @@ TEST(Cli, SurfaceLiftIsAnOption) {
   const double flat = areaAfterRemesh("--surface-lift 0");
   EXPECT_LT(std::abs(lifted - inputArea), std::abs(flat - inputArea));
   EXPECT_NE(Cli("remesh --surface-lift 1.5 " + mesh + " " + Quote(out)).exitCode, 0);
+  std::filesystem::remove_all(dir);
+}
+
+// An output the pipeline cannot make valid is written, but never in silence: two interpenetrating
+// closed spheres form a tangle the clean stage cannot repair (no valid refill), so the output
+// keeps its intersecting pairs; the tool says so and why, and exits with status 3.
+TEST(Cli, InvalidOutputIsWrittenWithWarningsAndExitStatus3) {
+  const auto dir = TempDir("cli_invalid_output");
+  molremesh::MeshD spheres, second;
+  molremesh::test::Icosphere(spheres, 3);
+  molremesh::test::Icosphere(second, 3, molremesh::test::Point(1.0, 0.13, 0.07));
+  molremesh::test::AppendMesh(spheres, second);
+  const std::string input = (dir / "two_spheres.off").string(), out = (dir / "out.ply").string(),
+                    json = (dir / "out.json").string();
+  std::string error;
+  ASSERT_TRUE(molremesh::SaveMesh(spheres, input, error)) << error;
+  const CommandResult r = Cli("remesh --quiet " + Quote(input) + " " + Quote(out) + " --json " + Quote(json));
+  EXPECT_EQ(r.exitCode, 3) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  EXPECT_NE(r.err.find("not valid:"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("self-intersecting face pairs"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("tangle"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("exit status 3"), std::string::npos) << r.err;
+  std::ifstream in(json);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_FALSE(j["verdict"]["valid"].get<bool>());
+  EXPECT_FALSE(j["verdict"]["invalid"].empty());
+  // The figures agree: the written mesh has the intersecting pairs the warning counts.
+  const auto report = nlohmann::json::parse(Cli("report --json " + Quote(out)).out);
+  EXPECT_GT(report["self_intersecting_pairs"].get<int>(), 0);
+  std::filesystem::remove_all(dir);
+}
+
+// A hole longer than --max-hole-edges stays open: the output is valid (exit status 0) but not
+// closed, and a warning says so and which limit kept the hole.
+TEST(Cli, OpenOutputWarnsWhichLimitKeptTheHole) {
+  const auto dir = TempDir("cli_open_output");
+  molremesh::MeshD sphere;
+  molremesh::test::Icosphere(sphere, 3);
+  for (auto& f : sphere.face)
+    if ((f.P(0)[2] + f.P(1)[2] + f.P(2)[2]) / 3 > 0.8)
+      vcg::tri::Allocator<molremesh::MeshD>::DeleteFace(sphere, f);
+  vcg::tri::Clean<molremesh::MeshD>::RemoveUnreferencedVertex(sphere);
+  vcg::tri::Allocator<molremesh::MeshD>::CompactEveryVector(sphere);
+  const std::string input = (dir / "open_sphere.off").string(), out = (dir / "out.ply").string(),
+                    json = (dir / "out.json").string();
+  std::string error;
+  ASSERT_TRUE(molremesh::SaveMesh(sphere, input, error)) << error;
+  const CommandResult r =
+      Cli("remesh --quiet --max-hole-edges 4 " + Quote(input) + " " + Quote(out) + " --json " + Quote(json));
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_NE(r.err.find("short of a target: not closed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("--max-hole-edges"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("not valid"), std::string::npos) << r.err;
+  std::ifstream in(json);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_TRUE(j["verdict"]["valid"].get<bool>());
+  EXPECT_FALSE(j["verdict"]["all_targets_met"].get<bool>());
+  // With the default limit the same hole is closed and every target is met, without a warning.
+  const CommandResult closed = Cli("remesh --quiet " + Quote(input) + " " + Quote(out));
+  EXPECT_EQ(closed.exitCode, 0) << closed.err;
+  EXPECT_EQ(closed.err.find("warning"), std::string::npos) << closed.err;
   std::filesystem::remove_all(dir);
 }

@@ -11,6 +11,8 @@
 #include <common/GLLogStream.h>
 #include <common/interfaces.h>
 #include <common/meshmodel.h>
+#include <vcg/complex/algorithms/create/platonic.h>
+#include <vcg/complex/append.h>
 #include <wrap/io_trimesh/import_ply.h>
 
 #include <vcg_ext/bad_element_coloring.h>
@@ -268,6 +270,24 @@ TEST_F(PluginTest, FullPipelineGivesEveryAngleWithinTheBoundsAndRegularVertices)
   EXPECT_EQ(after.selfIntersectingPairs, 0u);
   EXPECT_NE(LogText().find("stage times (s):"), std::string::npos) << "each stage's time is logged";
   EXPECT_NE(LogText().find("polish"), std::string::npos);
+  EXPECT_EQ(LogText().find("Warning"), std::string::npos) << "every promise kept: no warning";
+  document.delMesh(mm);
+}
+
+// Two interpenetrating closed spheres: a tangle no refill repairs, so the result keeps
+// intersecting pairs. The layer takes the result, but the log says it is not valid, and why.
+TEST_F(PluginTest, FullPipelineWarnsWhenTheResultIsNotValid) {
+  MeshModel* mm = AddLayer("");
+  CMeshO second;
+  vcg::tri::Sphere(mm->cm, 3);
+  vcg::tri::Sphere(second, 3);
+  for (auto& v : second.vert) v.P() += CMeshO::CoordType(1.0f, 0.13f, 0.07f);
+  vcg::tri::Append<CMeshO, CMeshO>::Mesh(mm->cm, second);
+  ASSERT_TRUE(Apply(kFull, *mm)) << plugin->errorMsg().toStdString();
+  const std::string text = LogText();
+  EXPECT_NE(text.find("Warning: the result is not valid:"), std::string::npos) << text;
+  EXPECT_NE(text.find("self-intersecting face pairs"), std::string::npos) << text;
+  EXPECT_NE(text.find("tangle"), std::string::npos) << text;
   document.delMesh(mm);
 }
 

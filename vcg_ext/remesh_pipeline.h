@@ -28,6 +28,7 @@
 #include "input_check.h"
 #include "local_smoothing.h"
 #include "mesh_quality.h"
+#include "output_verdict.h"
 #include "obtuse_reduction.h"
 #include "patchwise_remeshing.h"
 #include "random_segmentation.h"
@@ -122,6 +123,9 @@ struct PipelineResult {
                                            ///< stage changed the faces: rar clears it)
   int patchCount = 0;
   double seconds = 0;
+  /// What the output misses of the promises of the stages that ran (empty when all are met, and
+  /// when the stages were not measured); see OutputVerdict.
+  OutputVerdict verdict;
 };
 
 template <class MeshType>
@@ -284,6 +288,7 @@ public:
     };
 
     const std::size_t stageCount = params.stages.size();
+    OutputTargets targets; // the causes are filled in by the clean stage
     for (std::size_t s = 0; s < stageCount; ++s) {
       const PipelineStage stage = params.stages[s];
       PipelineStageRecord record;
@@ -327,6 +332,10 @@ public:
         const auto r = CleanRawMesh<MeshType>::Do(m, cleanParams);
         if (!r.ok) return fail(record, r.message);
         record.summary = r.Summary();
+        targets.unrepairedTangles = r.unrepairedTangles;
+        targets.unfilledHoles = r.unfilledHoles;
+        targets.largestUnfilledHoleEdges = r.largestUnfilledHoleEdges;
+        targets.maxHoleEdges = cleanParams.maxHoleEdges;
         // The cleaning measured its result already: that report is the stage's when it was taken
         // the way the stage report would be.
         if (cleanParams.degenerateAreaEpsilon == qualityParams.degenerateAreaEpsilon &&
@@ -437,6 +446,16 @@ public:
     }
     resolveReports();
     UpdateAdjacency(m);
+    if (params.measureEachStage && !result.stages.empty()) {
+      auto ran = [&](PipelineStage stage) {
+        return std::find(params.stages.begin(), params.stages.end(), stage) != params.stages.end();
+      };
+      targets.checkAngles = ran(PipelineStage::Small);
+      targets.minAngleDeg = params.small.minAngleDeg;
+      targets.maxAngleDeg = params.small.maxAngleDeg;
+      targets.checkValence = ran(PipelineStage::Valence);
+      result.verdict = OutputVerdict::Of(result.stages.back().after, targets);
+    }
     result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (cb) cb(100, "done");
     return result;
