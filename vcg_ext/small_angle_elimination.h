@@ -91,8 +91,12 @@ public:
     /// of the reference (a cusp between atom spheres), where every edit tilts a face more than
     /// guards.maxNormalDeviationDeg away from the reference normals averaged over its corners.
     /// The rounds run once more with the normal guard relaxed to this angle (still below 90, so
-    /// no face turns over; folds, intersections and the angle guards unchanged). 0 = off.
+    /// no face turns over; intersections and the angle guards unchanged). 0 = off.
     double creaseNormalDeviationDeg = 89.0;
+    /// ... and the fold guard relaxed to this angle between adjacent normals, as RAR's repair
+    /// pass does: across a crease whose sides meet at 110-120 degrees (PyMOL's and EDTSurf's van
+    /// der Waals cusps) every move of a crease vertex tilts some pair past the default 120.
+    double creaseFoldAngleDeg = 165.0;
     LocalOpsGuards guards =
         DefaultGuards(); ///< guards of every edit (minAngleDeg is set to Params::minAngleDeg)
   };
@@ -154,6 +158,7 @@ public:
         CountSmall(m, params.minAngleDeg, params.threads, angleMin) > 0) {
       LocalOpsGuards crease = guards;
       crease.maxNormalDeviationDeg = params.creaseNormalDeviationDeg;
+      crease.maxFoldAngleDeg = std::max(crease.maxFoldAngleDeg, params.creaseFoldAngleDeg);
       ops.SetGuards(crease);
       r.creasePass = true;
       const int rounds = r.iterations;
