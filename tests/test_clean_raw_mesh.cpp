@@ -518,6 +518,41 @@ TEST(CleanRawMesh, TinyExtraComponentIsRemovedAndCounted) {
   }
 }
 
+// A twisted 9-edge hole of an EDTSurf marching-cubes surface (1TII, -t 1 -s 4 -f 1; the fixture is
+// the 120 faces within 4 A of it): its only triangulation under the fold bound crosses a face of
+// the mesh, so it stayed open and TetGen refused the whole surface. It is now grown (its boundary
+// faces removed) and the larger hole refilled validly. The patch's own rim (24 edges) stays open
+// under a hole limit of 20.
+TEST(CleanRawMesh, AHoleNoTriangulationFillsIsGrownAndFilled) {
+  MeshD m;
+  std::string error;
+  ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::Fixture("edtsurf_twisted_hole.ply"), error)) << error;
+  const molremesh::QualityReport input = Quality::Compute(m);
+  ASSERT_EQ(input.boundaryEdges, 36u);
+  Clean::Params params;
+  params.maxHoleEdges = 20;
+  const auto r = Clean::Do(m, params);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.closedHoles, 1u);
+  EXPECT_EQ(r.grownHoles, 1u);
+  EXPECT_GT(r.holeFacesRemoved, 0u);
+  EXPECT_EQ(r.unfilledHoles, 1u);
+  EXPECT_EQ(r.largestUnfilledHoleEdges, 24u);
+  const molremesh::QualityReport q = Quality::Compute(m);
+  EXPECT_EQ(q.boundaryLoops, 1u);
+  EXPECT_EQ(q.boundaryEdges, 24u);
+  EXPECT_EQ(q.selfIntersectingPairs, 0u);
+  EXPECT_EQ(q.adjacentOverlapPairs, 0u);
+  // Without growth room (no repair attempts left for it) the hole stays open, as it did.
+  params.maxRepairAttempts = 0;
+  MeshD again;
+  ASSERT_TRUE(molremesh::LoadMesh(again, molremesh::test::Fixture("edtsurf_twisted_hole.ply"), error))
+      << error;
+  const auto before = Clean::Do(again, params);
+  EXPECT_EQ(before.grownHoles, 0u);
+  EXPECT_EQ(before.unfilledHoles, 2u);
+}
+
 TEST(CleanRawMesh, TheLargestComponentIsNeverRemoved) {
   // Two equal tetrahedra: each is 50% of the faces, so a fraction of 0.9 would remove both.
   MeshD m;

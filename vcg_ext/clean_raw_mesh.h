@@ -35,9 +35,11 @@
 //      duplicate, no fold beyond params.maxFillDihedral, and it intersects no face of the mesh nor
 //      another fill triangle (the closed-triangle test of MeshQuality's self-intersection count). A
 //      triangle that fails is forbidden and the triangulation recomputed; a loop that cannot be
-//      filled stays open and is counted. vcglib's Hole<> is not used: its ear cutting needs vertex
-//      normals, can leave a hole half filled, and checks intersections only against the faces
-//      around the hole, not against a nearby sheet;
+//      filled so (a twisted marching-cubes slit) is grown instead: its boundary faces, and up to
+//      params.maxRepairGrowth rings around them, are removed and the larger hole is refilled as a
+//      tangle is (kept only when valid); a loop that still cannot be filled stays open and is counted.
+//      vcglib's Hole<> is not used: its ear cutting needs vertex normals, can leave a hole half filled, and
+//      checks intersections only against the faces around the hole, not against a nearby sheet;
 //   9. split any vertex that is still non-manifold (next to an unfilled hole, or where two separate
 //      loops met at a vertex) and separate the copies as in step 6;
 //  10. orient every closed component outward: positive volume, except, with
@@ -138,6 +140,8 @@ struct CleanRawMeshResult {
   // Step 7: holes
   std::size_t closedHoles = 0;              ///< boundary loops filled
   std::size_t holeFacesAdded = 0;           ///< faces added to fill them
+  std::size_t grownHoles = 0;               ///< of the closed holes, those grown first (see FillHoles)
+  std::size_t holeFacesRemoved = 0;         ///< faces removed around them
   std::size_t unfilledHoles = 0;            ///< boundary loops left open (too long, or no valid fill)
   std::size_t largestUnfilledHoleEdges = 0; ///< edges of the longest loop left open
   // Step 10
@@ -193,6 +197,8 @@ struct CleanRawMeshResult {
     line("tangle faces added", tangleFacesAdded);
     line("closed holes", closedHoles);
     line("hole faces added", holeFacesAdded);
+    line("grown holes", grownHoles);
+    line("faces removed around grown holes", holeFacesRemoved);
     line("unfilled holes", unfilledHoles);
     line("largest unfilled hole edges", largestUnfilledHoleEdges);
     line("removed orphaned vertices", removedOrphanedVertices);
@@ -500,7 +506,7 @@ private:
     }
 
     Progress(cb, 70, "Closing holes");
-    FillHoles(m, params, meanEdge, tol, r);
+    FillHoles(m, params, meanEdge, tol, attemptsLeft, r);
 
     Progress(cb, 85, "Splitting remaining non-manifold vertices");
     const auto splitLate = SplitNonManifoldVertices(m, false);
@@ -1816,7 +1822,12 @@ private:
   // Step 7: holes
   // ------------------------------------------------------------------------------------------------
 
-  static void FillHoles(MeshType& m, const Params& params, double meanEdge, double tol, Result& r) {
+  /// A loop within params.maxHoleEdges that no triangulation of its own vertices fills validly (a
+  /// twisted marching-cubes slit whose only fold-bounded triangulation crosses the mesh) is grown
+  /// instead: its boundary faces, then up to params.maxRepairGrowth rings around them, are removed
+  /// and the larger hole refilled (RepairRegion, as a tangle; kept only when valid).
+  static void FillHoles(MeshType& m, const Params& params, double meanEdge, double tol, int& attemptsLeft,
+                        Result& r) {
     std::vector<std::uint8_t> visited(m.face.size(), 0);
     std::vector<Loop> loops;
     Loop loop;
@@ -1832,9 +1843,9 @@ private:
     std::unique_ptr<FaceGrid> grid;
     FillContext ctx;
     bool changed = false;
+    std::vector<const Loop*> unfilled;
     for (const Loop& l : loops) {
       const std::size_t edges = l.verts.size();
-      bool filled = false;
       if (int(edges) <= params.maxHoleEdges) {
         if (!grid) {
           grid.reset(new FaceGrid(m, 2.0 * meanEdge));
@@ -1843,17 +1854,50 @@ private:
         std::vector<Tri> plan;
         if (PlanLoopFill(m, l, ctx, plan)) {
           CommitFill(m, plan, ctx);
-          filled = changed = true;
+          changed = true;
           ++r.closedHoles;
           r.holeFacesAdded += plan.size();
+          continue;
+        }
+      }
+      unfilled.push_back(&l);
+    }
+    if (changed) RebuildTopology(m);
+    for (const Loop* l : unfilled) {
+      bool filled = false;
+      if (int(l->verts.size()) <= params.maxHoleEdges) {
+        std::vector<Index> seed;
+        for (Index f : l->faces)
+          if (!m.face[f].IsD()) seed.push_back(f);
+        std::sort(seed.begin(), seed.end());
+        seed.erase(std::unique(seed.begin(), seed.end()), seed.end());
+        // Still the same open loop (an earlier grown fill may have taken it along).
+        bool open = seed.size() > 0;
+        for (std::size_t i = 0; i < l->faces.size() && open; ++i) {
+          const FaceType& f = m.face[l->faces[i]];
+          open = !f.IsD();
+          if (open) {
+            int e = 0;
+            while (e < 3 && !(VI(m, f, e) == l->verts[i] &&
+                              VI(m, f, (e + 1) % 3) == l->verts[(i + 1) % l->verts.size()]))
+              ++e;
+            open = e < 3 && IsBorderEdge(f, e);
+          }
+        }
+        std::size_t removed = 0, added = 0;
+        if (open && RepairRegion(m, seed, params, meanEdge, tol, *grid, attemptsLeft, removed, added)) {
+          filled = true;
+          ++r.closedHoles;
+          ++r.grownHoles;
+          r.holeFacesRemoved += removed;
+          r.holeFacesAdded += added;
         }
       }
       if (!filled) {
         ++r.unfilledHoles;
-        r.largestUnfilledHoleEdges = std::max(r.largestUnfilledHoleEdges, edges);
+        r.largestUnfilledHoleEdges = std::max(r.largestUnfilledHoleEdges, l->verts.size());
       }
     }
-    if (changed) RebuildTopology(m);
   }
 
   // ------------------------------------------------------------------------------------------------
