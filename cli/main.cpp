@@ -206,6 +206,9 @@ int main(int argc, char** argv) {
   KeepFreedMemoryInTheHeap();
   CLI::App app{"molremesh: molecular surface remeshing (valence optimization and angle improvement)"};
   app.require_subcommand(1);
+  app.footer("Exit status: 0 done (warnings name any target a valid output misses), 1 command-line mistake, "
+             "2 unusable input or a failed stage (nothing written), 3 output written but not a valid surface "
+             "mesh (the warnings say why).");
 
   std::string input, output;
   bool json = false, skipSelfIntersections = false;

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs every Debian package molremesh needs to build, test and benchmark (Debian bookworm).
 # Safe to run again: apt skips what is already there. Needs root (or sudo).
-# usage: install_deps.sh [--benchmarks] [--pictures]
+# usage: install_deps.sh [--benchmarks] [--pictures] [--unseen]
 #   --benchmarks adds CGAL, the benchmark-only baseline;
+#   --unseen adds EDTSurf and PyMOL, the surface generators of benchmarks/unseen_inputs.py;
 #   --pictures adds ImageMagick and xdotool, for scripts/make_pictures.sh (README screenshots of the
 #              MeshLab GUI).
 set -euo pipefail
@@ -20,7 +21,8 @@ for option in "$@"; do
   case "$option" in
   --benchmarks) packages+=(libcgal-dev) ;;
   --pictures) packages+=(imagemagick xdotool) ;;
-  *) echo "install_deps: unknown option '$option' (use --benchmarks, --pictures)" >&2; exit 1 ;;
+  --unseen) packages+=(edtsurf python3-pymol) ;;
+  *) echo "install_deps: unknown option '$option' (use --benchmarks, --pictures, --unseen)" >&2; exit 1 ;;
   esac
 done
 
