@@ -269,7 +269,7 @@ TEST(Cli, OpenOutputWarnsWhichLimitKeptTheHole) {
   const CommandResult r =
       Cli("remesh --quiet --max-hole-edges 4 " + Quote(input) + " " + Quote(out) + " --json " + Quote(json));
   EXPECT_EQ(r.exitCode, 0) << r.err;
-  ExpectMentions(r.err, {"short of a target: not closed", "--max-hole-edges"});
+  ExpectMentions(r.err, {"short of a target: not closed", "hole size limit of 4 edges"});
   EXPECT_EQ(r.err.find("not valid"), std::string::npos) << r.err;
   const auto j = ReadJson(json);
   EXPECT_TRUE(j["verdict"]["valid"].get<bool>());

@@ -76,7 +76,7 @@ TEST(OutputVerdict, AnOpenOutputIsShortOfClosedAndSaysWhichLimitKeptTheHole) {
   EXPECT_TRUE(v.Valid());
   EXPECT_FALSE(v.AllMet());
   EXPECT_TRUE(Mentions(v.shortOf, "not closed: 57 boundary edges in 2 loops"));
-  EXPECT_TRUE(Mentions(v.shortOf, "--max-hole-edges"));
+  EXPECT_TRUE(Mentions(v.shortOf, "hole size limit of 100 edges"));
   // A hole within the limit that stayed open had no valid fill.
   targets.largestUnfilledHoleEdges = 76;
   v = OutputVerdict::Of(r, targets);

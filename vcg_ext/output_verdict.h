@@ -83,7 +83,7 @@ struct OutputVerdict {
             " (the clean stage left ", targets.unfilledHoles, targets.unfilledHoles == 1 ? " hole" : " holes",
             " of the input open, the longest with ", targets.largestUnfilledHoleEdges, " edges",
             targets.maxHoleEdges > 0 && targets.largestUnfilledHoleEdges > std::size_t(targets.maxHoleEdges)
-                ? text(": above the limit of ", targets.maxHoleEdges, " (--max-hole-edges)")
+                ? text(": above the clean stage's hole size limit of ", targets.maxHoleEdges, " edges")
                 : std::string(": no valid fill was found"),
             ")");
       v.shortOf.push_back(text("not closed: ", out.boundaryEdges, " boundary edges in ", out.boundaryLoops,
