@@ -1248,6 +1248,20 @@ private:
     return false;
   }
 
+  /// Whether every boundary half-edge of `loop` is still there: an earlier grown fill may have
+  /// removed one of its faces or closed one of its sides.
+  static bool LoopStillOpen(const MeshType& m, const Loop& loop) {
+    const std::size_t n = loop.verts.size();
+    for (std::size_t i = 0; i < n; ++i) {
+      const FaceType& f = m.face[loop.faces[i]];
+      if (f.IsD()) return false;
+      int e = 0;
+      while (e < 3 && !(VI(m, f, e) == loop.verts[i] && VI(m, f, (e + 1) % 3) == loop.verts[(i + 1) % n])) ++e;
+      if (e == 3 || !IsBorderEdge(f, e)) return false;
+    }
+    return true;
+  }
+
   /// Cuts a loop at its repeated vertices into simple cycles ("lobes"). Each lobe is filled on its
   /// own, which turns a pinch vertex (boundary passing twice) into a single manifold fan.
   static std::vector<Loop> SplitIntoLobes(const Loop& loop) {
@@ -1866,26 +1880,12 @@ private:
     for (const Loop* l : unfilled) {
       bool filled = false;
       if (int(l->verts.size()) <= params.maxHoleEdges) {
-        std::vector<Index> seed;
-        for (Index f : l->faces)
-          if (!m.face[f].IsD()) seed.push_back(f);
+        // Its faces, each once (a face with two boundary sides is on the loop twice).
+        std::vector<Index> seed = l->faces;
         std::sort(seed.begin(), seed.end());
         seed.erase(std::unique(seed.begin(), seed.end()), seed.end());
-        // Still the same open loop (an earlier grown fill may have taken it along).
-        bool open = seed.size() > 0;
-        for (std::size_t i = 0; i < l->faces.size() && open; ++i) {
-          const FaceType& f = m.face[l->faces[i]];
-          open = !f.IsD();
-          if (open) {
-            int e = 0;
-            while (e < 3 && !(VI(m, f, e) == l->verts[i] &&
-                              VI(m, f, (e + 1) % 3) == l->verts[(i + 1) % l->verts.size()]))
-              ++e;
-            open = e < 3 && IsBorderEdge(f, e);
-          }
-        }
         std::size_t removed = 0, added = 0;
-        if (open && RepairRegion(m, seed, params, meanEdge, tol, *grid, attemptsLeft, removed, added)) {
+        if (LoopStillOpen(m, *l) && RepairRegion(m, seed, params, meanEdge, tol, *grid, attemptsLeft, removed, added)) {
           filled = true;
           ++r.closedHoles;
           ++r.grownHoles;
