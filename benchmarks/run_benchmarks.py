@@ -404,6 +404,17 @@ def algorithm_seconds(method, run, tools, args, mesh, work):
 # --- Measuring one mesh -----------------------------------------------------------------------
 
 
+def add_changes(row, input_report, cleaned_report):
+    """Area and volume change of the row's output against the raw input and against the cleaned one
+    (the surface molremesh remeshes: the issues bound the volume against it)."""
+    out = row.get("report") or {}
+    for key, column in (("area", "area_change"), ("volume", "volume_change")):
+        for reference, suffix in ((input_report, "_percent"), (cleaned_report, "_cleaned_percent")):
+            before, after = (reference or {}).get(key), out.get(key)
+            if before and after is not None:
+                row[column + suffix] = 100.0 * (after - before) / abs(before)
+
+
 def measure_output(row, tools, output, mesh, input_report, target, work, args):
     report = tools.report(output)
     if report is None:
@@ -420,12 +431,7 @@ def measure_output(row, tools, output, mesh, input_report, target, work, args):
         dist = tools.distance(output, cleaned)
         if dist is not None:
             row["hausdorff_cleaned_over_L"] = dist["hausdorff"] / target
-    vin, vout = (input_report or {}).get("volume"), report.get("volume")
-    if vin and vout is not None:
-        row["volume_change_percent"] = 100.0 * (vout - vin) / abs(vin)
-    ain, aout = (input_report or {}).get("area"), report.get("area")
-    if ain and aout is not None:
-        row["area_change_percent"] = 100.0 * (aout - ain) / abs(ain)
+    add_changes(row, input_report, getattr(args, "_cleaned_report", {}).get(mesh))
     if not args.skip_tetgen:
         row["tetgen"] = tools.tetgen_check(output, work)
 
@@ -449,6 +455,8 @@ def bench_mesh(mesh, tools, args, methods, unavailable, work_root):
     if clean_run.ok and os.path.exists(cleaned):
         args._cleaned = getattr(args, "_cleaned", {})
         args._cleaned[mesh] = cleaned
+        args._cleaned_report = getattr(args, "_cleaned_report", {})
+        args._cleaned_report[mesh] = tools.report(cleaned)
     row = {"method": "input", "status": "ok", "report": input_report}
     if (name, "input") in getattr(args, "_reused", {}):
         row["tetgen"] = args._reused[(name, "input")].get("tetgen")  # the input's TetGen run is the slow one
@@ -464,9 +472,7 @@ def bench_mesh(mesh, tools, args, methods, unavailable, work_root):
             # From an earlier run (--reuse-json): same program, input and parameters.
             row.update(reused[(name, method)])
             row["reused"] = True
-            ain, aout = (input_report or {}).get("area"), (row.get("report") or {}).get("area")
-            if ain and aout is not None:
-                row["area_change_percent"] = 100.0 * (aout - ain) / abs(ain)
+            add_changes(row, input_report, getattr(args, "_cleaned_report", {}).get(mesh))
             print("  %s: taken from %s" % (method, args.reuse_json), file=sys.stderr)
             continue
         if method in unavailable:
@@ -510,7 +516,7 @@ def bench_mesh(mesh, tools, args, methods, unavailable, work_root):
 
 COLUMNS = ["method", "faces in", "faces out", "time s", "remesh s", "peak MB", "θmin", "θmax", "Qmin", "V567 %",
            "obtuse %", "% < 30°", "SI pairs", "boundary edges", "Hausdorff/L", "Hausdorff/L cleaned",
-           "area change %", "volume change %", "TetGen ok"]
+           "area change %", "area change % cleaned", "volume change %", "volume change % cleaned", "TetGen ok"]
 STAGE_ORDER = ["load", "clean", "cvt", "valence", "segment", "rar", "small", "obtuse", "smooth", "polish", "save"]
 
 
@@ -547,7 +553,9 @@ def row_cells(row, faces_in):
         fmt(row.get("hausdorff_over_L"), ".3f") if row["method"] != "input" else "",
         fmt(row.get("hausdorff_cleaned_over_L"), ".3f") if row["method"] != "input" else "",
         fmt(row.get("area_change_percent"), "+.2f") if row["method"] != "input" else "",
+        fmt(row.get("area_change_cleaned_percent"), "+.2f") if row["method"] != "input" else "",
         fmt(row.get("volume_change_percent"), "+.2f") if row["method"] != "input" else "",
+        fmt(row.get("volume_change_cleaned_percent"), "+.2f") if row["method"] != "input" else "",
         "n/a" if tet is None else tet,
     ]
 
@@ -582,7 +590,8 @@ def summary_table(results, methods):
     """One row per method over all meshes: sums, worst cases and medians (see the legend)."""
     header = ["method", "meshes ok", "faces in", "faces out", "time s", "peak MB", "θmin", "θmax", "Qmin",
               "V567 %", "obtuse %", "% < 30°", "SI pairs", "boundary edges", "Hausdorff/L", "Hausdorff/L cleaned",
-              "max abs area change %", "max abs volume change %",
+              "max abs area change %", "max abs area change % cleaned", "max abs volume change %",
+              "max abs volume change % cleaned",
               "TetGen ok"]
     rows = []
     for method in ("input",) + tuple(methods):
@@ -622,7 +631,9 @@ def summary_table(results, methods):
             "" if is_input else agg(values("hausdorff_over_L", "row"), max, ".3f"),
             "" if is_input else agg(values("hausdorff_cleaned_over_L", "row"), max, ".3f"),
             "" if is_input else agg([abs(v) for v in values("area_change_percent", "row")], max, ".2f"),
+            "" if is_input else agg([abs(v) for v in values("area_change_cleaned_percent", "row")], max, ".2f"),
             "" if is_input else agg([abs(v) for v in values("volume_change_percent", "row")], max, ".2f"),
+            "" if is_input else agg([abs(v) for v in values("volume_change_cleaned_percent", "row")], max, ".2f"),
             ("%d/%d" % (sum(1 for t in tet_known if t.startswith("yes")), len(tet_known))) if tet_known else "n/a",
         ])
     return markdown_table(header, rows)
@@ -662,8 +673,9 @@ def describe_run(args, methods):
         "(vertices plus one area-uniform sample per face, both ways) over L; Hausdorff/L cleaned = the same "
         "against the input after molremesh's stage 0 alone (`molremesh remesh IN OUT --stages clean`: repaired, "
         "holes closed, components under 1 % of the faces dropped), for every method; area change = surface area, "
-        "output vs input; volume change = signed enclosed "
-        "volume, output vs input; TetGen ok = `tetgen -pq1.4` builds a tetrahedral mesh of the output (timeout "
+        "output vs input; volume change = signed enclosed volume, output vs input; *cleaned* beside them = the "
+        "same against that cleaned input (the surface molremesh remeshes; the issues bound its volume change "
+        "against it); TetGen ok = `tetgen -pq1.4` builds a tetrahedral mesh of the output (timeout "
         "{timeout} s). "
         "Quality figures come from `molremesh report --json`.".replace("{timeout}", "%.0f" % args.tetgen_timeout),
     ]
@@ -820,7 +832,7 @@ def main():
     summary = summary_table(results, methods)
     print("\n### Summary over %d meshes\n\n%s\n" % (len(results), summary))
     legend = ("Summary: faces, time, SI pairs and boundary edges are sums over the meshes that ran; peak MB, "
-              "θmax, Hausdorff/L and the absolute volume change the largest; θmin and Qmin the smallest; the "
+              "θmax, Hausdorff/L and the absolute area and volume changes the largest; θmin and Qmin the smallest; the "
               "percentages are medians; TetGen ok counts successes.")
     if args.out != "-":
         parts = ["# molremesh benchmark results", "", describe_run(args, methods), ""]
