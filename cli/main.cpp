@@ -99,6 +99,7 @@ struct RemeshOptions {
   double mergeTolerance = molremesh::CleanRawMesh<MeshD>::Params().mergeTolerance;
   int maxHoleEdges = molremesh::CleanRawMesh<MeshD>::Params().maxHoleEdges;
   double minComponentPercent = 100.0 * molremesh::CleanRawMesh<MeshD>::Params().minComponentFraction;
+  double memoryLimitMB = 0; // 0: the memory available when the run starts; < 0: no check
   std::string jsonPath;
   bool quiet = false;
   bool checkEachStage = false;
@@ -129,6 +130,7 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.clean.mergeTolerance = options.mergeTolerance;
   params.clean.maxHoleEdges = options.maxHoleEdges;
   params.clean.minComponentFraction = options.minComponentPercent / 100.0;
+  params.memoryLimitMB = options.memoryLimitMB;
   // The output format must be writable before hours of work are spent.
   if (molremesh::FormatFromPath(output) == molremesh::MeshFormat::Unknown)
     throw InputError("cannot write '" + output + "': unknown format (use .ply, .off, .obj or .stl)");
@@ -139,6 +141,8 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
     if (!options.quiet) std::cerr << "molremesh: " << line << std::endl;
   };
   const molremesh::PipelineResult result = Pipeline::Do(mesh, params, log);
+  if (result.refusedForMemory)
+    throw InputError(result.message + "; --memory-limit MB sets the limit, -1 turns the check off");
   if (!result.ok) throw InputError(result.message);
 
   std::string error;
@@ -207,7 +211,8 @@ int main(int argc, char** argv) {
   CLI::App app{"molremesh: molecular surface remeshing (valence optimization and angle improvement)"};
   app.require_subcommand(1);
   app.footer("Exit status: 0 done (warnings name any target a valid output misses), 1 command-line mistake, "
-             "2 unusable input or a failed stage (nothing written), 3 output written but not a valid surface "
+             "2 unusable input, a failed stage or a run refused for memory (nothing written), 3 output "
+             "written but not a valid surface "
              "mesh (the warnings say why).");
 
   std::string input, output;
@@ -304,6 +309,12 @@ int main(int argc, char** argv) {
           "Clean: remove components with fewer than this % of the faces (never the largest; 0 keeps all)")
       ->default_val(remeshOptions.minComponentPercent)
       ->check(CLI::Range(0.0, 100.0));
+  remesh
+      ->add_option("--memory-limit", remeshOptions.memoryLimitMB,
+                   "Refuse (exit status 2, nothing written) a run whose estimated peak memory exceeds this "
+                   "many MB; 0 = the memory available at the start, -1 = no check")
+      ->default_val(0)
+      ->check(CLI::Range(-1.0, 1e12));
   remesh->add_option("--json", remeshOptions.jsonPath,
                      "Also write the per-stage figures as JSON to this file");
   remesh->add_flag("--quiet", remeshOptions.quiet, "No progress lines on stderr");

@@ -57,6 +57,14 @@ void AddCommonParameters(RichParameterList& parameters) {
                               "Worker threads; 0 = all cores. The result does not "
                               "depend on it."));
 }
+/// For the filters that build a new mesh at the target edge length (CVT, RAR, full pipeline).
+void AddMemoryLimitParameter(RichParameterList& parameters) {
+  parameters.addParam(
+      RichFloat("memoryLimit", 0.f, "Memory limit (MB)",
+                "The filter refuses to run (the layer untouched) when its estimated peak "
+                "memory exceeds this; 0 = the memory available when it starts, -1 = no check. "
+                "A target edge length far below the mesh's makes millions of faces."));
+}
 void AddValenceParameters(RichParameterList& parameters) {
   const molremesh::ValenceOptimization<molremesh::MeshD>::Params defaults;
   AddMinAngleParameter(parameters);
@@ -299,6 +307,7 @@ void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel&, RichPa
     parameters.addParam(RichInt("threads", 0, "Threads",
                                 "Worker threads; 0 = all cores. The result does not "
                                 "depend on it."));
+    AddMemoryLimitParameter(parameters);
     break;
   }
   case FP_PATCHWISE_RAR: {
@@ -321,6 +330,7 @@ void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel&, RichPa
     parameters.addParam(RichInt("threads", 0, "Threads",
                                 "Worker threads; 0 = all cores. The result does not "
                                 "depend on it."));
+    AddMemoryLimitParameter(parameters);
     break;
   }
   case FP_VALENCE_OPTIMIZATION:
@@ -368,6 +378,7 @@ void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel&, RichPa
     parameters.addParam(RichInt("threads", 0, "Threads",
                                 "Worker threads; 0 = all cores. The result does not "
                                 "depend on it."));
+    AddMemoryLimitParameter(parameters);
     break;
   }
   case FP_RANDOM_SEGMENTATION: {
@@ -492,6 +503,7 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
   if (parameters.hasParameter("targetVertexCount"))
     params.cvt.targetVertexCount = std::size_t(std::max(0, parameters.getInt("targetVertexCount")));
   if (parameters.hasParameter("threads")) params.threads = std::max(0, parameters.getInt("threads"));
+  if (parameters.hasParameter("memoryLimit")) params.memoryLimitMB = parameters.getFloat("memoryLimit");
   if (parameters.hasParameter("seed")) params.seed = std::uint64_t(parameters.getInt("seed"));
   if (parameters.hasParameter("patchCount"))
     params.segment.patchCount = std::max(0, parameters.getInt("patchCount"));
@@ -547,6 +559,16 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
   // Self-intersections are counted before and after, not between stages (the slowest figure;
   // every edit already refuses new intersections).
   params.intersectionsEachStage = false;
+  // The run works on a copy and writes it back only when every stage succeeded: the layer stays
+  // as it was on failure without the pipeline's own backup copy of the input.
+  params.restoreOnFailure = false;
+  // Checked on the layer, before the copy (which the estimate includes), then not again.
+  if (const std::string why = Pipeline::MemoryCheck(mm.cm, params); !why.empty())
+    return fail(
+        QString::fromStdString("refused: " + why +
+                               " (the layer is unchanged; the Memory limit parameter sets the limit, -1 "
+                               "turns the check off)"));
+  params.memoryLimitMB = -1;
   molremesh::MeshD work;
   molremesh::CopyTriangles(work, mm.cm);
   const molremesh::PipelineResult result = Pipeline::Do(

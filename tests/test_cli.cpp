@@ -280,3 +280,25 @@ TEST(Cli, OpenOutputWarnsWhichLimitKeptTheHole) {
   EXPECT_EQ(closed.err.find("warning"), std::string::npos) << closed.err;
   std::filesystem::remove_all(dir);
 }
+
+// A run that cannot fit in memory is refused before it starts (exit 2, nothing written) instead of
+// growing until the kernel kills it: a target edge length 10^4 times below galactose's mean edge
+// would make about 10^11 faces; --memory-limit sets the limit (1 MB: even galactose is over it) and
+// -1 turns the check off.
+TEST(Cli, RunBeyondTheMemoryLimitIsRefusedBeforeItStarts) {
+  const auto dir = TempDir("cli_memory");
+  const std::string out = (dir / "out.ply").string();
+  const std::string mesh = Quote(SharedMesh("galactose_grasp.ply"));
+  const CommandResult tiny = Cli("remesh --quiet --target-length 0.0001 " + mesh + " " + Quote(out));
+  ExpectInputError(tiny, "refused: the run would need about");
+  ExpectMentions(tiny.err, {"MB of memory available", "output faces", "larger target edge length"});
+  ExpectInputError(Cli("remesh --quiet --memory-limit 1 --stages clean,cvt " + mesh + " " + Quote(out)),
+                   "more than the 1 MB memory limit");
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const CommandResult unchecked = Cli(
+      "remesh --quiet --memory-limit -1 --stages clean,cvt --cvt-iterations 2 " + mesh + " " + Quote(out));
+  EXPECT_EQ(unchecked.exitCode, 0) << unchecked.err;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  EXPECT_NE(Cli("remesh --memory-limit -2 " + mesh + " " + Quote(out)).exitCode, 0);
+  std::filesystem::remove_all(dir);
+}

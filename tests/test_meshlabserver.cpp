@@ -180,6 +180,29 @@ TEST(MeshlabServer, BadInputFailsWithOurMessageAndSavesNothing) {
   }
 }
 
+// A headless run whose estimated memory exceeds what the machine has (the full pipeline script
+// with a target edge length 10^4 times below galactose's mean edge: about 10^11 faces) fails with
+// the refusal in the log and saves nothing, instead of being killed by the kernel half way.
+TEST(MeshlabServer, RunBeyondTheMemoryLimitIsRefusedAndSavesNothing) {
+  const auto dir = TempDir("mls_memory");
+  std::string script = ReadFile(kScripts + "/full_pipeline.mlx");
+  const std::string defaultLength = R"(value="0" name="targetLength")";
+  const std::size_t at = script.find(defaultLength);
+  ASSERT_NE(at, std::string::npos);
+  script.replace(at, defaultLength.size(), R"(value="0.0001" name="targetLength")");
+  const std::string scriptPath = (dir / "tiny_length.mlx").string();
+  std::ofstream(scriptPath) << script;
+  const std::string output = (dir / "out.ply").string();
+  const std::string logFile = (dir / "log.txt").string();
+  const CommandResult r = Server("-l " + Quote(logFile) + " -i " + Quote(SharedMesh("galactose_grasp.ply")) +
+                                 " -o " + Quote(output) + " -s " + Quote(scriptPath));
+  EXPECT_EQ(r.exitCode, 255) << r.out << r.err;
+  const std::string text = ReadFile(logFile) + r.out + r.err;
+  EXPECT_NE(text.find("refused: the run would need about"), std::string::npos) << text;
+  EXPECT_FALSE(std::filesystem::exists(output)) << "a refused layer must not be saved";
+  std::filesystem::remove_all(dir);
+}
+
 // ------------------------------------------------------------------------------------------------
 // Issue 3 acceptance through meshlabserver: remesh_clean_cvt_rar.mlx (Clean Raw Mesh, CVT
 // Initialization, Patch-wise Adaptive Remeshing = segmentation + RAR) on every shared mesh, checked

@@ -7,6 +7,8 @@
 #include <QPluginLoader>
 
 #include <set>
+#include <utility>
+#include <vector>
 
 #include <common/GLLogStream.h>
 #include <common/interfaces.h>
@@ -89,11 +91,14 @@ protected:
     return mm;
   }
 
-  bool Apply(const QString& filterName, MeshModel& mm) {
+  /// Runs the filter with its default parameters but the given float ones.
+  bool Apply(const QString& filterName, MeshModel& mm,
+             const std::vector<std::pair<QString, float>>& floats = {}) {
     QAction* action = FindFilter(plugin, filterName);
     if (action == nullptr) return false;
     RichParameterList parameters;
     plugin->initParameterSet(action, mm, parameters);
+    for (const auto& [name, value] : floats) parameters.setValue(name, FloatValue(value));
     return plugin->applyFilter(action, document, parameters, nullptr);
   }
 
@@ -288,6 +293,29 @@ TEST_F(PluginTest, FullPipelineWarnsWhenTheResultIsNotValid) {
   EXPECT_NE(text.find("Warning: the result is not valid:"), std::string::npos) << text;
   EXPECT_NE(text.find("self-intersecting face pairs"), std::string::npos) << text;
   EXPECT_NE(text.find("tangle"), std::string::npos) << text;
+  document.delMesh(mm);
+}
+
+// A target edge length 10^4 times below the layer's mean edge would make about 10^10 faces: the
+// resampling filters refuse before they start (a run that outgrows the memory would take MeshLab
+// down with it), the layer untouched; a memory limit of 1 MB refuses even the real run, and -1
+// turns the check off.
+TEST_F(PluginTest, ResamplingFiltersRefuseARunBeyondTheMemoryLimit) {
+  for (const QString& name : {kCvt, kRar, kFull}) {
+    MeshModel* mm = AddLayer(SharedMesh("galactose_grasp.ply"));
+    const LayerSnapshot before = LayerSnapshot::Of(*mm);
+    EXPECT_FALSE(Apply(name, *mm, {{"targetLength", 0.0001f}})) << name.toStdString();
+    const std::string error = plugin->errorMsg().toStdString();
+    EXPECT_NE(error.find("refused: the run would need about"), std::string::npos) << error;
+    EXPECT_NE(error.find("MB of memory available"), std::string::npos) << error;
+    EXPECT_TRUE(LayerSnapshot::Of(*mm) == before) << name.toStdString();
+    EXPECT_FALSE(Apply(name, *mm, {{"memoryLimit", 1.0f}})) << name.toStdString();
+    EXPECT_NE(plugin->errorMsg().toStdString().find("1 MB memory limit"), std::string::npos);
+    EXPECT_TRUE(LayerSnapshot::Of(*mm) == before) << name.toStdString();
+    document.delMesh(mm);
+  }
+  MeshModel* mm = AddLayer(SharedMesh("galactose_grasp.ply"));
+  EXPECT_TRUE(Apply(kCvt, *mm, {{"memoryLimit", -1.0f}})) << plugin->errorMsg().toStdString();
   document.delMesh(mm);
 }
 

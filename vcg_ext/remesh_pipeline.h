@@ -27,6 +27,7 @@
 #include "cvt_initialization.h"
 #include "input_check.h"
 #include "local_smoothing.h"
+#include "memory_budget.h"
 #include "mesh_quality.h"
 #include "output_verdict.h"
 #include "obtuse_reduction.h"
@@ -116,6 +117,7 @@ struct PipelineStageRecord {
 struct PipelineResult {
   bool ok = true;
   std::string message; ///< why it failed (the mesh is then the input again)
+  bool refusedForMemory = false; ///< the memory check refused the run (Params::memoryLimitMB)
   double targetEdgeLength = 0;
   QualityReport input;                     ///< the mesh as given
   std::vector<PipelineStageRecord> stages; ///< in order
@@ -146,6 +148,10 @@ public:
     /// writes nothing) turns it off; m then holds the last completed stage's result (every stage
     /// leaves the mesh as it was when it fails).
     bool restoreOnFailure = true;
+    /// A run whose estimated peak memory (MemoryBudget::Estimate: the input's size and the face
+    /// count the target edge length implies) exceeds this many MB is refused before any stage,
+    /// the mesh untouched; 0 = the memory available when the run starts; < 0 = no check.
+    double memoryLimitMB = 0;
     /// The input surface the stages from CVT on project onto (built once, from the cleaned mesh);
     /// reference.phongAlpha is the share of the bounded lift toward its Phong surface, applied only
     /// when the run includes both the CVT and the RAR stage (see ensureReference in Do).
@@ -194,6 +200,35 @@ public:
     return p;
   }
 
+  /// "" when the run fits the memory limit (Params::memoryLimitMB), else why not. Resampling
+  /// stages (CVT, RAR) make a mesh of the target edge length: its face count comes from the
+  /// input's area and L (the input's mean edge length when L is not given; the cleaned input's,
+  /// which the run uses, is no shorter, so the estimate errs high).
+  /// Any vcg mesh type: a caller that copies its mesh into MeshType (the MeshLab plugin) checks
+  /// before the copy.
+  template <class AnyMesh>
+  static std::string MemoryCheck(const AnyMesh& m, const Params& params) {
+    if (params.memoryLimitMB < 0) return {};
+    const auto runs = [&](PipelineStage stage) {
+      return std::find(params.stages.begin(), params.stages.end(), stage) != params.stages.end();
+    };
+    const bool resamples = runs(PipelineStage::Cvt) || runs(PipelineStage::Rar);
+    double area = 0, edgeSum = 0, L = params.targetEdgeLength;
+    if (resamples) {
+      for (const auto& f : m.face) {
+        if (f.IsD()) continue;
+        const vcg::Point3d p0 = vcg::Point3d::Construct(f.cP(0)), p1 = vcg::Point3d::Construct(f.cP(1)),
+                           p2 = vcg::Point3d::Construct(f.cP(2));
+        area += 0.5 * ((p1 - p0) ^ (p2 - p0)).Norm();
+        edgeSum += (p1 - p0).Norm() + (p2 - p1).Norm() + (p0 - p2).Norm();
+      }
+      if (!(L > 0) && m.fn > 0) L = edgeSum / (3.0 * double(m.fn));
+    }
+    const MemoryEstimate estimate =
+        MemoryBudget::Estimate(std::size_t(m.fn), std::size_t(m.vn), resamples, area, L);
+    return MemoryBudget::Check(estimate, params.memoryLimitMB, L);
+  }
+
   static std::vector<PipelineStage> AllStages() {
     std::vector<PipelineStage> all;
     for (const auto& info : PipelineStages()) all.push_back(info.stage);
@@ -215,6 +250,13 @@ public:
     if (!check.ok) {
       result.ok = false;
       result.message = check.message;
+      return result;
+    }
+    if (std::string why = MemoryCheck(m, params); !why.empty()) {
+      result.ok = false;
+      result.refusedForMemory = true;
+      result.message = "refused: " + why + " (the mesh is unchanged)";
+      say(result.message);
       return result;
     }
     typename MeshQuality<MeshType>::Params qualityParams;
