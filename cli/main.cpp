@@ -212,8 +212,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.footer("Exit status: 0 done (warnings name any target a valid output misses), 1 command-line mistake, "
              "2 unusable input, a failed stage or a run refused for memory (nothing written), 3 output "
-             "written but not a valid surface "
-             "mesh (the warnings say why).");
+             "written but not a valid surface mesh (the warnings say why).");
 
   std::string input, output;
   bool json = false, skipSelfIntersections = false;

@@ -4,13 +4,12 @@
 
 #include <sys/resource.h>
 
-#include <vcg/complex/algorithms/create/platonic.h>
-
 #include <vcg_ext/memory_budget.h>
 #include <vcg_ext/mesh_io.h>
 #include <vcg_ext/mesh_types.h>
 #include <vcg_ext/remesh_pipeline.h>
 
+#include "remeshing_test_meshes.h"
 #include "test_helpers.h"
 
 using namespace molremesh;
@@ -21,7 +20,7 @@ namespace {
 using Pipeline = RemeshPipeline<MeshD>;
 
 void UnitSphere(MeshD& m, int subdivisions) {
-  vcg::tri::Sphere(m, subdivisions);
+  Icosphere(m, subdivisions);
   vcg::tri::UpdateTopology<MeshD>::FaceFace(m);
   vcg::tri::UpdateTopology<MeshD>::VertexFace(m);
 }
@@ -61,7 +60,10 @@ TEST(MemoryBudget, CheckSaysHowMuchAndAgainstWhat) {
   const std::string overLimit = MemoryBudget::Check(e, 100.0, 0.001);
   EXPECT_NE(overLimit.find("the run would need about"), std::string::npos) << overLimit;
   EXPECT_NE(overLimit.find("more than the 100 MB memory limit"), std::string::npos) << overLimit;
-  EXPECT_NE(overLimit.find("output faces"), std::string::npos) << overLimit;
+  EXPECT_NE(overLimit.find("at target edge length 0.001 about"), std::string::npos) << overLimit;
+  EXPECT_NE(MemoryBudget::Check(MemoryBudget::Estimate(1000, 500, true, 1000.0, 1e-5), 100.0, 1e-5)
+                .find("at target edge length 1e-05 about"),
+            std::string::npos);
   EXPECT_EQ(MemoryBudget::Check(e, -1.0, 0.001), "") << "a negative limit turns the check off";
   EXPECT_EQ(MemoryBudget::Check(e, e.bytes / (1024.0 * 1024.0) + 1.0, 0.001), "");
 }

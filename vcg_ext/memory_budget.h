@@ -23,9 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <cstdint>
 #include <fstream>
-#include <limits>
 #include <sstream>
 #include <string>
 
@@ -90,8 +88,10 @@ public:
     s << "the run would need about " << Megabytes(e.bytes) << " MB of memory (input " << e.facesIn
       << " faces";
     if (e.facesOut > e.facesIn) {
+      s.unsetf(std::ios::fixed); // 4 significant digits, whatever the scale of L
       s.precision(4);
       s << "; at target edge length " << L;
+      s.setf(std::ios::fixed);
       s.precision(0);
       s << " about " << e.facesOut << " output faces";
     }
