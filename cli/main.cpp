@@ -11,6 +11,7 @@
 #include <exception>
 #include <fstream>
 #include <iostream>
+#include <new>
 #include <string>
 
 #if defined(__GLIBC__)
@@ -332,6 +333,10 @@ int main(int argc, char** argv) {
     if (*remesh) return RunRemesh(input, output, remeshOptions);
   } catch (const InputError& e) {
     std::cerr << "molremesh: error: " << e.what() << '\n';
+    return kExitBadInput;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "molremesh: error: out of memory (nothing written; --memory-limit sets the limit the run is "
+                 "checked against before it starts)\n";
     return kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "molremesh: error: " << e.what() << '\n';

@@ -302,3 +302,43 @@ TEST(Cli, RunBeyondTheMemoryLimitIsRefusedBeforeItStarts) {
   EXPECT_NE(Cli("remesh --memory-limit -2 " + mesh + " " + Quote(out)).exitCode, 0);
   std::filesystem::remove_all(dir);
 }
+
+// A header that declares more elements than the file holds (truncated, corrupt or hand-edited)
+// made vcglib's importers allocate every declared element first: 2 * 10^9 faces ended in
+// std::bad_alloc, a count just under the machine's memory would have been allocated and filled.
+// Now the file's size is checked against the smallest size of what the header declares.
+TEST(Cli, HeaderDeclaringMoreThanTheFileHoldsIsRefused) {
+  const auto dir = TempDir("cli_header");
+  const std::string triangle = "0 0 0\n1 0 0\n0 1 0\n";
+  auto ply = [&](const std::string& name, const std::string& counts) {
+    const std::string path = (dir / (name + ".ply")).string();
+    std::ofstream(path) << "ply\nformat ascii 1.0\n"
+                        << counts << "property list uchar int vertex_indices\nend_header\n"
+                        << triangle << "3 0 1 2\n";
+    return path;
+  };
+  const std::string vertexProps = "property float x\nproperty float y\nproperty float z\n";
+  const std::string manyFaces =
+      ply("many_faces", "element vertex 3\n" + vertexProps + "element face 2000000000\n");
+  const std::string manyVertices =
+      ply("many_vertices", "element vertex 300000000\n" + vertexProps + "element face 1\n");
+  for (const std::string& path : {manyFaces, manyVertices}) {
+    const CommandResult r = Cli("report " + Quote(path));
+    ExpectInputError(r, "(truncated or corrupt)");
+    ExpectMentions(r.err, {"its header declares", "but the file has"});
+  }
+  const std::string off = (dir / "many.off").string();
+  std::ofstream(off) << "OFF\n3 1000000000 0\n" << triangle << "3 0 1 2\n";
+  ExpectInputError(Cli("report " + Quote(off)), "declares 3 vertices and 1000000000 faces");
+  // The same files with honest counts (and no newline after the last face) are read.
+  const std::string honest = (dir / "honest.ply").string();
+  std::ofstream(honest) << "ply\nformat ascii 1.0\nelement vertex 3\n"
+                        << vertexProps
+                        << "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                        << triangle << "3 0 1 2";
+  EXPECT_EQ(Cli("report --no-self-intersections " + Quote(honest)).exitCode, 0);
+  const std::string honestOff = (dir / "honest.off").string();
+  std::ofstream(honestOff) << "OFF\n3 1 0\n" << triangle << "3 0 1 2";
+  EXPECT_EQ(Cli("report --no-self-intersections " + Quote(honestOff)).exitCode, 0);
+  std::filesystem::remove_all(dir);
+}

@@ -100,6 +100,93 @@ bool ReadObjTriangles(MeshType& m, const std::string& path, std::string& error) 
   return true;
 }
 
+/// The smallest number of bytes the elements a PLY or OFF header declares can take, and the
+/// counts; the importers allocate every declared element before reading one, so a header that
+/// declares more than the file can hold (truncated, corrupt, hand-edited) would make them try to
+/// allocate gigabytes. 0 bytes when the header cannot be read (the importer then says why).
+struct DeclaredSize {
+  double vertices = 0, faces = 0;
+  double headerBytes = 0, minBodyBytes = 0;
+};
+
+inline DeclaredSize PlyDeclaredSize(const std::string& path) {
+  DeclaredSize d;
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  bool ascii = false;
+  double count = 0;           // of the current element
+  double minBytesPerItem = 0; // of the current element
+  double* countTarget = nullptr;
+  auto closeElement = [&]() {
+    d.minBodyBytes += count * minBytesPerItem;
+    if (countTarget) *countTarget = count;
+  };
+  auto scalarBytes = [&](const std::string& type) -> double {
+    if (ascii) return 2; // a digit and a separator
+    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+    if (type == "double" || type == "float64") return 8;
+    return 4;
+  };
+  for (int lines = 0; lines < 10000 && std::getline(in, line); ++lines) {
+    std::istringstream words(line);
+    std::string keyword;
+    words >> keyword;
+    if (keyword == "format") {
+      std::string kind;
+      words >> kind;
+      ascii = kind == "ascii";
+    } else if (keyword == "element") {
+      closeElement();
+      std::string name;
+      words >> name >> count;
+      minBytesPerItem = 0;
+      countTarget = name == "vertex" ? &d.vertices : name == "face" ? &d.faces : nullptr;
+    } else if (keyword == "property") {
+      std::string type, countType, itemType;
+      words >> type;
+      if (type == "list") {
+        words >> countType >> itemType;
+        // A face lists at least three vertices; other lists may be empty.
+        minBytesPerItem += scalarBytes(countType) + (countTarget == &d.faces ? 3 * scalarBytes(itemType) : 0);
+      } else {
+        minBytesPerItem += scalarBytes(type);
+      }
+    } else if (keyword == "end_header") {
+      closeElement();
+      d.headerBytes = double(in.tellg());
+      return d;
+    }
+  }
+  return DeclaredSize(); // no end_header: not a PLY header the check understands
+}
+
+inline DeclaredSize OffDeclaredSize(const std::string& path) {
+  DeclaredSize d;
+  std::ifstream in(path);
+  std::string line;
+  bool sawKeyword = false;
+  for (int lines = 0; lines < 1000 && std::getline(in, line); ++lines) {
+    const std::size_t start = line.find_first_not_of(" \t\r");
+    if (start == std::string::npos || line[start] == '#') continue;
+    std::istringstream words(line.substr(start));
+    if (!sawKeyword && std::isalpha(static_cast<unsigned char>(line[start]))) {
+      std::string keyword;
+      words >> keyword;
+      sawKeyword = true;
+      if (keyword.find("OFF") == std::string::npos) return DeclaredSize();
+      if (!(words >> d.vertices >> d.faces)) continue; // counts on the next line
+    } else if (!(words >> d.vertices >> d.faces)) {
+      return DeclaredSize();
+    }
+    d.headerBytes = double(in.tellg());
+    // "x y z" per vertex, "3 a b c" per face: at least 2 bytes per number.
+    d.minBodyBytes = 6 * d.vertices + 8 * d.faces;
+    return d;
+  }
+  return DeclaredSize();
+}
+
 /// Loads path into m (cleared first). Returns true on success; otherwise error holds one line.
 /// Only geometry and faces are read: colors, normals and texture coordinates are not needed by
 /// molremesh and are recomputed where they are written.
@@ -111,11 +198,27 @@ bool LoadMesh(MeshType& m, const std::string& path, std::string& error) {
     error = "cannot open '" + path + "': no such file or not readable";
     return false;
   }
-  if (probe.tellg() == 0) {
+  const double fileBytes = double(probe.tellg());
+  if (fileBytes == 0) {
     error = "cannot read '" + path + "': the file is empty";
     return false;
   }
   probe.close();
+  const MeshFormat format = FormatFromPath(path);
+  if (format == MeshFormat::Ply || format == MeshFormat::Off) {
+    const DeclaredSize declared = format == MeshFormat::Ply ? PlyDeclaredSize(path) : OffDeclaredSize(path);
+    // (- 1: the last line of an ASCII file may lack its newline.)
+    if (declared.headerBytes > 0 && declared.headerBytes + declared.minBodyBytes - 1 > fileBytes) {
+      std::ostringstream why;
+      why.setf(std::ios::fixed);
+      why.precision(0);
+      why << "cannot read '" << path << "': its header declares " << declared.vertices << " vertices and "
+          << declared.faces << " faces, at least " << declared.headerBytes + declared.minBodyBytes
+          << " bytes, but the file has " << fileBytes << " (truncated or corrupt)";
+      error = why.str();
+      return false;
+    }
+  }
 
   int loadMask = 0;
   int code = 0;
