@@ -33,6 +33,7 @@ struct MemoryEstimate {
   double facesIn = 0;    ///< faces of the input
   double verticesIn = 0; ///< vertices of the input
   double facesOut = 0;   ///< faces the target edge length implies (0: no resampling stage)
+  double targetEdgeLength = 0; ///< the L they were counted for
   double bytes = 0;      ///< predicted peak resident memory of the run
 };
 
@@ -61,6 +62,7 @@ public:
     MemoryEstimate e;
     e.facesIn = double(facesIn);
     e.verticesIn = double(verticesIn);
+    e.targetEdgeLength = L;
     e.facesOut = resamples ? kAdaptiveFaceFactor * UniformFaces(area, L) : 0.0;
     e.bytes =
         kBaseBytes + kBytesPerFace * std::max(e.facesIn, e.facesOut) + kBytesPerInputVertex * e.verticesIn;
@@ -78,7 +80,7 @@ public:
   }
 
   /// "" when the run fits under limitMB (0 = the available memory, < 0 = no check), else why not.
-  static std::string Check(const MemoryEstimate& e, double limitMB, double L) {
+  static std::string Check(const MemoryEstimate& e, double limitMB) {
     if (limitMB < 0) return {};
     const double limit = limitMB > 0 ? limitMB * 1024.0 * 1024.0 : AvailableBytes();
     if (!(limit > 0) || e.bytes <= limit) return {};
@@ -90,7 +92,7 @@ public:
     if (e.facesOut > e.facesIn) {
       s.unsetf(std::ios::fixed); // 4 significant digits, whatever the scale of L
       s.precision(4);
-      s << "; at target edge length " << L;
+      s << "; at target edge length " << e.targetEdgeLength;
       s.setf(std::ios::fixed);
       s.precision(0);
       s << " about " << e.facesOut << " output faces";

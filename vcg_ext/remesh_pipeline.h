@@ -35,6 +35,7 @@
 #include "random_segmentation.h"
 #include "reference_surface.h"
 #include "small_angle_elimination.h"
+#include "triangle_angles.h"
 #include "valence_optimization.h"
 
 namespace molremesh {
@@ -200,33 +201,34 @@ public:
     return p;
   }
 
-  /// "" when the run fits the memory limit (Params::memoryLimitMB), else why not. Resampling
-  /// stages (CVT, RAR) make a mesh of the target edge length: its face count comes from the
-  /// input's area and L (the input's mean edge length when L is not given; the cleaned input's,
-  /// which the run uses, is no shorter, so the estimate errs high).
-  /// Any vcg mesh type: a caller that copies its mesh into MeshType (the MeshLab plugin) checks
-  /// before the copy.
+  /// The run's estimated peak memory (MemoryBudget::Estimate). Resampling stages (CVT, RAR) make
+  /// a mesh of the target edge length: its face count comes from the input's area and L (the
+  /// input's mean edge length when L is not given; the cleaned input's, which the run uses, is no
+  /// shorter, so the estimate errs high). Any vcg mesh type: a caller that copies its mesh into
+  /// MeshType (the MeshLab plugin) checks before the copy.
   template <class AnyMesh>
-  static std::string MemoryCheck(const AnyMesh& m, const Params& params) {
-    if (params.memoryLimitMB < 0) return {};
+  static MemoryEstimate EstimateMemory(const AnyMesh& m, const Params& params) {
     const auto runs = [&](PipelineStage stage) {
       return std::find(params.stages.begin(), params.stages.end(), stage) != params.stages.end();
     };
     const bool resamples = runs(PipelineStage::Cvt) || runs(PipelineStage::Rar);
-    double area = 0, edgeSum = 0, L = params.targetEdgeLength;
+    double area = 0, L = params.targetEdgeLength;
     if (resamples) {
-      for (const auto& f : m.face) {
-        if (f.IsD()) continue;
-        const vcg::Point3d p0 = vcg::Point3d::Construct(f.cP(0)), p1 = vcg::Point3d::Construct(f.cP(1)),
-                           p2 = vcg::Point3d::Construct(f.cP(2));
-        area += 0.5 * ((p1 - p0) ^ (p2 - p0)).Norm();
-        edgeSum += (p1 - p0).Norm() + (p2 - p1).Norm() + (p0 - p2).Norm();
-      }
-      if (!(L > 0) && m.fn > 0) L = edgeSum / (3.0 * double(m.fn));
+      for (const auto& f : m.face)
+        if (!f.IsD())
+          area += 0.5 *
+                  ((PositionOf(f.cV(1)) - PositionOf(f.cV(0))) ^ (PositionOf(f.cV(2)) - PositionOf(f.cV(0))))
+                      .Norm();
+      if (!(L > 0)) L = MeanEdgeLength(m);
     }
-    const MemoryEstimate estimate =
-        MemoryBudget::Estimate(std::size_t(m.fn), std::size_t(m.vn), resamples, area, L);
-    return MemoryBudget::Check(estimate, params.memoryLimitMB, L);
+    return MemoryBudget::Estimate(std::size_t(m.fn), std::size_t(m.vn), resamples, area, L);
+  }
+
+  /// "" when the run fits the memory limit (Params::memoryLimitMB), else why not.
+  template <class AnyMesh>
+  static std::string MemoryCheck(const AnyMesh& m, const Params& params) {
+    if (params.memoryLimitMB < 0) return {};
+    return MemoryBudget::Check(EstimateMemory(m, params), params.memoryLimitMB);
   }
 
   static std::vector<PipelineStage> AllStages() {
