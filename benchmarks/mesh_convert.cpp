@@ -4,8 +4,8 @@
 #include <iostream>
 #include <string>
 
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_types.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/core/mesh_types.h>
 
 int main(int argc, char** argv) {
   if (argc != 3) {

@@ -18,13 +18,13 @@
 #include <malloc.h>
 #endif
 
-#include <vcg_ext/bad_element_coloring.h>
-#include <vcg_ext/input_check.h>
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/mesh_types.h>
-#include <vcg_ext/quality_report_format.h>
-#include <vcg_ext/remesh_pipeline.h>
+#include <vcg_ext/quality/bad_element_coloring.h>
+#include <vcg_ext/core/input_check.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/quality/quality_report_format.h>
+#include <vcg_ext/pipeline/remesh_pipeline.h>
 
 #include "report_json.h"
 

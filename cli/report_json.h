@@ -4,7 +4,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include <vcg_ext/mesh_quality.h>
+#include <vcg_ext/quality/mesh_quality.h>
 
 namespace molremesh {
 

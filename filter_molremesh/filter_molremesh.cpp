@@ -1,12 +1,12 @@
 // vcg_ext first: Qt (pulled in by the plugin header) defines `slots` and `signals` as macros,
 // which must not reach our templates.
-#include <vcg_ext/bad_element_coloring.h>
-#include <vcg_ext/input_check.h>
-#include <vcg_ext/mesh_copy.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/mesh_types.h>
-#include <vcg_ext/quality_report_format.h>
-#include <vcg_ext/remesh_pipeline.h>
+#include <vcg_ext/quality/bad_element_coloring.h>
+#include <vcg_ext/core/input_check.h>
+#include <vcg_ext/core/mesh_copy.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/quality/quality_report_format.h>
+#include <vcg_ext/pipeline/remesh_pipeline.h>
 
 #include "filter_molremesh.h"
 

@@ -10,11 +10,11 @@
 
 #include <vcg/complex/complex.h>
 
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/mesh_types.h>
-#include <vcg_ext/reference_surface.h>
-#include <vcg_ext/remesh_pipeline.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/surface/reference_surface.h>
+#include <vcg_ext/pipeline/remesh_pipeline.h>
 
 #include <array>
 #include <chrono>

@@ -5,9 +5,9 @@
 
 #include <gtest/gtest.h>
 
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/surface_distance.h>
-#include <vcg_ext/mesh_types.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/surface/surface_distance.h>
+#include <vcg_ext/core/mesh_types.h>
 
 #include <vcg/complex/algorithms/clean.h>
 #include <vcg/complex/algorithms/create/platonic.h>

@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include <vcg_ext/adaptive_remeshing.h>
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/mesh_types.h>
-#include <vcg_ext/remesh_pipeline.h>
-#include <vcg_ext/surface_distance.h>
+#include <vcg_ext/stages/adaptive_remeshing.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/pipeline/remesh_pipeline.h>
+#include <vcg_ext/surface/surface_distance.h>
 
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"

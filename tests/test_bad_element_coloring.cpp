@@ -3,8 +3,8 @@
 
 #include <vcg/complex/algorithms/create/platonic.h>
 
-#include <vcg_ext/bad_element_coloring.h>
-#include <vcg_ext/mesh_types.h>
+#include <vcg_ext/quality/bad_element_coloring.h>
+#include <vcg_ext/core/mesh_types.h>
 
 using molremesh::MeshD;
 using Coloring = molremesh::BadElementColoring<MeshD>;

@@ -3,11 +3,11 @@
 // meshes of ../shared/data (the two large ones only in a manual run: --gtest_also_run_disabled_tests).
 #include <gtest/gtest.h>
 
-#include <vcg_ext/clean_raw_mesh.h>
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/mesh_types.h>
-#include <vcg_ext/surface_distance.h>
+#include <vcg_ext/clean/clean_raw_mesh.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/surface/surface_distance.h>
 
 #include <vcg/complex/algorithms/create/platonic.h>
 

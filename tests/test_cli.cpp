@@ -5,8 +5,8 @@
 #include <fstream>
 #include <initializer_list>
 
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_types.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/core/mesh_types.h>
 
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"

@@ -5,12 +5,12 @@
 // bit-identical output for any thread count.
 #include <gtest/gtest.h>
 
-#include <vcg_ext/cvt_initialization.h>
+#include <vcg_ext/stages/cvt_initialization.h>
 
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"
 
-#include <vcg_ext/mesh_io.h>
+#include <vcg_ext/io/mesh_io.h>
 
 #include <algorithm>
 #include <cmath>

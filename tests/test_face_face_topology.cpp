@@ -3,9 +3,9 @@
 // through all its faces, deleted faces skipped, whatever the thread count.
 #include <gtest/gtest.h>
 
-#include <vcg_ext/face_face_topology.h>
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_types.h>
+#include <vcg_ext/topology/face_face_topology.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/core/mesh_types.h>
 
 #include <array>
 #include <set>

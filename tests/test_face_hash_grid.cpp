@@ -3,9 +3,9 @@
 // query reports decides which move is undone), so both must give the same answers, in order.
 #include <gtest/gtest.h>
 
-#include <vcg_ext/face_hash_grid.h>
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_types.h>
+#include <vcg_ext/spatial/face_hash_grid.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/core/mesh_types.h>
 
 #include <cstddef>
 #include <string>

@@ -7,10 +7,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/mesh_types.h>
-#include <vcg_ext/surface_distance.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/surface/surface_distance.h>
 
 #include <fstream>
 #include <set>

@@ -3,12 +3,12 @@
 // the batch (Jacobi) moves, and random stress runs that must keep the mesh valid.
 #include <gtest/gtest.h>
 
-#include <vcg_ext/local_remeshing_ops.h>
+#include <vcg_ext/ops/local_remeshing_ops.h>
 
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"
 
-#include <vcg_ext/mesh_io.h>
+#include <vcg_ext/io/mesh_io.h>
 
 #include <cmath>
 #include <memory>

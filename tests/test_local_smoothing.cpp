@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include <vcg_ext/local_smoothing.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/mesh_types.h>
-#include <vcg_ext/remesh_pipeline.h>
+#include <vcg_ext/stages/local_smoothing.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/pipeline/remesh_pipeline.h>
 
 #include "local_stage_test_helpers.h"
 

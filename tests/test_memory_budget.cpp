@@ -4,10 +4,10 @@
 
 #include <sys/resource.h>
 
-#include <vcg_ext/memory_budget.h>
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_types.h>
-#include <vcg_ext/remesh_pipeline.h>
+#include <vcg_ext/pipeline/memory_budget.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/pipeline/remesh_pipeline.h>
 
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"

@@ -2,8 +2,8 @@
 // broken inputs, the self-intersection grid against brute force, and a real molecular surface.
 #include <gtest/gtest.h>
 
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/mesh_types.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/mesh_types.h>
 
 #include <vcg/complex/algorithms/create/platonic.h>
 #include <wrap/io_trimesh/import_ply.h>

@@ -10,9 +10,9 @@
 #include <fstream>
 #include <regex>
 
-#include <vcg_ext/bad_element_coloring.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/mesh_types.h>
+#include <vcg_ext/quality/bad_element_coloring.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/mesh_types.h>
 #include <wrap/io_trimesh/import_ply.h>
 
 #include "test_helpers.h"

@@ -1,7 +1,7 @@
 // OutputVerdict: what the pipeline promises of its output, checked on the output's report.
 #include <gtest/gtest.h>
 
-#include <vcg_ext/output_verdict.h>
+#include <vcg_ext/quality/output_verdict.h>
 
 using namespace molremesh;
 

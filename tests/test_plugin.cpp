@@ -17,8 +17,8 @@
 #include <vcg/complex/append.h>
 #include <wrap/io_trimesh/import_ply.h>
 
-#include <vcg_ext/bad_element_coloring.h>
-#include <vcg_ext/mesh_quality.h>
+#include <vcg_ext/quality/bad_element_coloring.h>
+#include <vcg_ext/quality/mesh_quality.h>
 
 #include "test_helpers.h"
 

@@ -9,9 +9,9 @@
 #include <map>
 #include <set>
 
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_types.h>
-#include <vcg_ext/random_segmentation.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/stages/random_segmentation.h>
 
 #include "test_helpers.h"
 

@@ -2,13 +2,13 @@
 // projection that does not jump across narrow gaps, components and volumes, the Phong lift.
 #include <gtest/gtest.h>
 
-#include <vcg_ext/parallel_for.h>
-#include <vcg_ext/reference_surface.h>
+#include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/surface/reference_surface.h>
 
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"
 
-#include <vcg_ext/mesh_io.h>
+#include <vcg_ext/io/mesh_io.h>
 
 #include <cmath>
 #include <limits>

@@ -10,9 +10,9 @@
 #include <limits>
 #include <vector>
 
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/mesh_types.h>
-#include <vcg_ext/surface_distance.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/surface/surface_distance.h>
 
 #include "test_helpers.h"
 

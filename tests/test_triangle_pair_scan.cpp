@@ -3,8 +3,8 @@
 // the sorting and the thread count, or an intersection would slip through.
 #include <gtest/gtest.h>
 
-#include <vcg_ext/float_box.h>
-#include <vcg_ext/triangle_pair_scan.h>
+#include <vcg_ext/core/float_box.h>
+#include <vcg_ext/spatial/triangle_pair_scan.h>
 
 #include <algorithm>
 #include <array>

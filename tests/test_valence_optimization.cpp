@@ -6,10 +6,10 @@
 
 #include <vcg/complex/complex.h>
 
-#include <vcg_ext/local_remeshing_ops.h>
-#include <vcg_ext/mesh_io.h>
-#include <vcg_ext/remesh_pipeline.h>
-#include <vcg_ext/valence_optimization.h>
+#include <vcg_ext/ops/local_remeshing_ops.h>
+#include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/pipeline/remesh_pipeline.h>
+#include <vcg_ext/stages/valence_optimization.h>
 
 #include <map>
 

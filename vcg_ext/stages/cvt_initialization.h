@@ -45,11 +45,11 @@
 
 #include <vcg/complex/complex.h>
 
-#include <vcg_ext/input_check.h>
-#include <vcg_ext/local_remeshing_ops.h>
-#include <vcg_ext/parallel_for.h>
-#include <vcg_ext/quality_report_format.h>
-#include <vcg_ext/reference_surface.h>
+#include <vcg_ext/core/input_check.h>
+#include <vcg_ext/ops/local_remeshing_ops.h>
+#include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/quality/quality_report_format.h>
+#include <vcg_ext/surface/reference_surface.h>
 
 #include <algorithm>
 #include <array>

@@ -10,7 +10,7 @@
 
 #include <vcg/space/point3.h>
 
-#include <vcg_ext/parallel_for.h>
+#include <vcg_ext/core/parallel_for.h>
 
 #include <algorithm>
 #include <array>

@@ -32,12 +32,12 @@
 
 #include <vcg/complex/complex.h>
 
-#include <vcg_ext/face_face_topology.h>
-#include <vcg_ext/input_check.h>
-#include <vcg_ext/local_remeshing_ops.h>
-#include <vcg_ext/local_stage.h>
-#include <vcg_ext/reference_surface.h>
-#include <vcg_ext/triangle_angles.h>
+#include <vcg_ext/topology/face_face_topology.h>
+#include <vcg_ext/core/input_check.h>
+#include <vcg_ext/ops/local_remeshing_ops.h>
+#include <vcg_ext/stages/local_stage.h>
+#include <vcg_ext/surface/reference_surface.h>
+#include <vcg_ext/geometry/triangle_angles.h>
 
 #include <algorithm>
 #include <array>

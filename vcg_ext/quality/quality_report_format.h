@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "mesh_quality.h"
+#include <vcg_ext/quality/mesh_quality.h>
 
 namespace molremesh {
 

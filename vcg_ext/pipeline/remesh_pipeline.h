@@ -9,7 +9,7 @@
 #include <vcg/complex/append.h>
 #include <vcg/complex/complex.h>
 
-#include <vcg_ext/face_face_topology.h>
+#include <vcg_ext/topology/face_face_topology.h>
 
 #include <algorithm>
 #include <chrono>
@@ -23,20 +23,20 @@
 #include <string>
 #include <vector>
 
-#include "clean_raw_mesh.h"
-#include "cvt_initialization.h"
-#include "input_check.h"
-#include "local_smoothing.h"
-#include "memory_budget.h"
-#include "mesh_quality.h"
-#include "output_verdict.h"
-#include "obtuse_reduction.h"
-#include "patchwise_remeshing.h"
-#include "random_segmentation.h"
-#include "reference_surface.h"
-#include "small_angle_elimination.h"
-#include "triangle_angles.h"
-#include "valence_optimization.h"
+#include <vcg_ext/clean/clean_raw_mesh.h>
+#include <vcg_ext/stages/cvt_initialization.h>
+#include <vcg_ext/core/input_check.h>
+#include <vcg_ext/stages/local_smoothing.h>
+#include <vcg_ext/pipeline/memory_budget.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/quality/output_verdict.h>
+#include <vcg_ext/stages/obtuse_reduction.h>
+#include <vcg_ext/stages/patchwise_remeshing.h>
+#include <vcg_ext/stages/random_segmentation.h>
+#include <vcg_ext/surface/reference_surface.h>
+#include <vcg_ext/stages/small_angle_elimination.h>
+#include <vcg_ext/geometry/triangle_angles.h>
+#include <vcg_ext/stages/valence_optimization.h>
 
 namespace molremesh {
 

@@ -11,7 +11,7 @@
 
 #include <cstddef>
 
-#include "mesh_quality.h"
+#include <vcg_ext/quality/mesh_quality.h>
 
 namespace molremesh {
 

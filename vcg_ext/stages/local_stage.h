@@ -4,9 +4,9 @@
 // refuse the same inputs with the same words and time themselves the same way.
 #pragma once
 
-#include <vcg_ext/local_remeshing_ops.h>
-#include <vcg_ext/reference_surface.h>
-#include <vcg_ext/triangle_angles.h>
+#include <vcg_ext/ops/local_remeshing_ops.h>
+#include <vcg_ext/surface/reference_surface.h>
+#include <vcg_ext/geometry/triangle_angles.h>
 
 #include <chrono>
 #include <cmath>

@@ -33,8 +33,8 @@
 
 #include <vcg/complex/complex.h>
 
-#include <vcg_ext/face_face_topology.h>
-#include <vcg_ext/float_box.h>
+#include <vcg_ext/topology/face_face_topology.h>
+#include <vcg_ext/core/float_box.h>
 
 #include <algorithm>
 #include <array>

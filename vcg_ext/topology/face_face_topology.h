@@ -18,7 +18,7 @@
 
 #include <vcg/complex/complex.h>
 
-#include <vcg_ext/parallel_for.h>
+#include <vcg_ext/core/parallel_for.h>
 
 #include <algorithm>
 #include <cstddef>

@@ -42,14 +42,14 @@
 #include <vcg/complex/append.h>
 #include <vcg/complex/complex.h>
 
-#include <vcg_ext/adaptive_remeshing.h>
-#include <vcg_ext/face_face_topology.h>
-#include <vcg_ext/face_hash_grid.h>
-#include <vcg_ext/input_check.h>
-#include <vcg_ext/local_remeshing_ops.h>
-#include <vcg_ext/parallel_for.h>
-#include <vcg_ext/radix_sort.h>
-#include <vcg_ext/reference_surface.h>
+#include <vcg_ext/stages/adaptive_remeshing.h>
+#include <vcg_ext/topology/face_face_topology.h>
+#include <vcg_ext/spatial/face_hash_grid.h>
+#include <vcg_ext/core/input_check.h>
+#include <vcg_ext/ops/local_remeshing_ops.h>
+#include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/core/radix_sort.h>
+#include <vcg_ext/surface/reference_surface.h>
 
 #include <algorithm>
 #include <array>

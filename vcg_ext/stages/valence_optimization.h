@@ -36,12 +36,12 @@
 
 #include <vcg/complex/complex.h>
 
-#include <vcg_ext/face_face_topology.h>
-#include <vcg_ext/input_check.h>
-#include <vcg_ext/local_remeshing_ops.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/parallel_for.h>
-#include <vcg_ext/reference_surface.h>
+#include <vcg_ext/topology/face_face_topology.h>
+#include <vcg_ext/core/input_check.h>
+#include <vcg_ext/ops/local_remeshing_ops.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/surface/reference_surface.h>
 
 #include <algorithm>
 #include <array>

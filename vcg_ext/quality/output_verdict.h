@@ -20,8 +20,8 @@
 #include <string>
 #include <vector>
 
-#include "mesh_quality.h"
-#include "quality_report_format.h"
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/quality/quality_report_format.h>
 
 namespace molremesh {
 

@@ -49,12 +49,12 @@
 
 #include <vcg/complex/complex.h>
 
-#include <vcg_ext/face_face_topology.h>
-#include <vcg_ext/face_hash_grid.h>
-#include <vcg_ext/mesh_quality.h>
-#include <vcg_ext/parallel_for.h>
-#include <vcg_ext/reference_surface.h>
-#include <vcg_ext/triangle_pair_scan.h>
+#include <vcg_ext/topology/face_face_topology.h>
+#include <vcg_ext/spatial/face_hash_grid.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/surface/reference_surface.h>
+#include <vcg_ext/spatial/triangle_pair_scan.h>
 
 #include <algorithm>
 #include <array>

@@ -16,8 +16,8 @@
 
 #include <vcg/space/box3.h>
 
-#include <vcg_ext/float_box.h>
-#include <vcg_ext/parallel_for.h>
+#include <vcg_ext/core/float_box.h>
+#include <vcg_ext/core/parallel_for.h>
 
 #include <algorithm>
 #include <array>

@@ -15,9 +15,9 @@
 #include <vcg/space/box3.h>
 #include <vcg/space/point3.h>
 
-#include <vcg_ext/float_box.h>
-#include <vcg_ext/parallel_for.h>
-#include <vcg_ext/radix_sort.h>
+#include <vcg_ext/core/float_box.h>
+#include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/core/radix_sort.h>
 
 #include <algorithm>
 #include <array>

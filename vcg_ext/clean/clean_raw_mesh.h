@@ -93,10 +93,10 @@
 #include <utility>
 #include <vector>
 
-#include "face_face_topology.h"
-#include "input_check.h"
-#include "mesh_quality.h"
-#include "parallel_for.h"
+#include <vcg_ext/topology/face_face_topology.h>
+#include <vcg_ext/core/input_check.h>
+#include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/parallel_for.h>
 
 namespace molremesh {
 
