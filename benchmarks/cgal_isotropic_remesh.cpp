@@ -63,15 +63,21 @@ int main(int argc, char** argv) {
       if (i + 1 >= argc) Fail(1, arg + " needs a value");
       return argv[++i];
     };
-    if (arg == "--target") target = ParseNumber(arg, next());
-    else if (arg == "--iterations") iterations = int(ParseNumber(arg, next()));
+    if (arg == "--target")
+      target = ParseNumber(arg, next());
+    else if (arg == "--iterations")
+      iterations = int(ParseNumber(arg, next()));
     else if (arg == "-h" || arg == "--help") {
       std::cout << kUsage;
       return 0;
-    } else if (!arg.empty() && arg[0] == '-') Fail(1, "unknown option " + arg);
-    else if (input.empty()) input = arg;
-    else if (output.empty()) output = arg;
-    else Fail(1, "too many arguments");
+    } else if (!arg.empty() && arg[0] == '-')
+      Fail(1, "unknown option " + arg);
+    else if (input.empty())
+      input = arg;
+    else if (output.empty())
+      output = arg;
+    else
+      Fail(1, "too many arguments");
   }
   if (input.empty() || output.empty()) Fail(1, "IN and OUT are required");
   if (!(target > 0)) Fail(1, "--target L (a positive edge length) is required");
@@ -94,7 +100,8 @@ int main(int argc, char** argv) {
     if (!CGAL::is_triangle_mesh(mesh)) PMP::triangulate_faces(mesh);
 
     const auto start = std::chrono::steady_clock::now();
-    PMP::isotropic_remeshing(faces(mesh), target, mesh, CGAL::parameters::number_of_iterations(unsigned(iterations)));
+    PMP::isotropic_remeshing(faces(mesh), target, mesh,
+                             CGAL::parameters::number_of_iterations(unsigned(iterations)));
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     mesh.collect_garbage();
 

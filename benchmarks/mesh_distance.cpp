@@ -29,9 +29,8 @@ namespace {
 using molremesh::MeshD;
 using Distance = molremesh::SurfaceDistance<MeshD, MeshD>;
 
-constexpr const char* kUsage =
-    "usage: mesh_distance A B [--samples N] [--seed S] [--threads T]\n"
-    "       mesh_distance --stats A\n";
+constexpr const char* kUsage = "usage: mesh_distance A B [--samples N] [--seed S] [--threads T]\n"
+                               "       mesh_distance --stats A\n";
 
 /// Counts and sizes of m. The mean edge length is over distinct undirected edges of faces with
 /// three distinct vertices and finite corners, as in `molremesh report`.
@@ -47,7 +46,8 @@ nlohmann::json Stats(const MeshD& m, const std::string& path) {
     std::array<std::size_t, 3> v;
     for (int i = 0; i < 3; ++i) v[i] = std::size_t(vcg::tri::Index(m, f.cV(i)));
     if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) continue;
-    for (int i = 0; i < 3; ++i) edges.emplace_back(std::min(v[i], v[(i + 1) % 3]), std::max(v[i], v[(i + 1) % 3]));
+    for (int i = 0; i < 3; ++i)
+      edges.emplace_back(std::min(v[i], v[(i + 1) % 3]), std::max(v[i], v[(i + 1) % 3]));
     const auto &p0 = f.cP(0), &p1 = f.cP(1), &p2 = f.cP(2);
     if (IsFinite(p0) && IsFinite(p1) && IsFinite(p2)) area += 0.5 * ((p1 - p0) ^ (p2 - p0)).Norm();
   }
@@ -77,9 +77,15 @@ nlohmann::json Stats(const MeshD& m, const std::string& path) {
 }
 
 nlohmann::json ToJson(const molremesh::OneSidedDistance& d) {
-  return {{"max", d.max},           {"mean", d.mean},           {"rms", d.rms},
-          {"vertex_max", d.vertexMax}, {"vertex_mean", d.vertexMean}, {"face_sample_max", d.faceMax},
-          {"face_sample_mean", d.faceMean}, {"vertex_samples", d.vertexSamples}, {"face_samples", d.faceSamples},
+  return {{"max", d.max},
+          {"mean", d.mean},
+          {"rms", d.rms},
+          {"vertex_max", d.vertexMax},
+          {"vertex_mean", d.vertexMean},
+          {"face_sample_max", d.faceMax},
+          {"face_sample_mean", d.faceMean},
+          {"vertex_samples", d.vertexSamples},
+          {"face_samples", d.faceSamples},
           {"max_at", {d.maxAt[0], d.maxAt[1], d.maxAt[2]}}};
 }
 
@@ -94,7 +100,8 @@ std::size_t ParseCount(const std::string& flag, const char* text) {
   char* end = nullptr;
   const unsigned long long value = std::strtoull(text, &end, 10);
   if (end == text || *end != '\0') {
-    std::cerr << "mesh_distance: error: " << flag << " needs a non-negative integer, got '" << text << "'\n" << kUsage;
+    std::cerr << "mesh_distance: error: " << flag << " needs a non-negative integer, got '" << text << "'\n"
+              << kUsage;
     std::exit(1);
   }
   return std::size_t(value);
@@ -115,17 +122,22 @@ int main(int argc, char** argv) {
       }
       return argv[++i];
     };
-    if (arg == "--stats") statsOnly = true;
-    else if (arg == "--samples") params.faceSamples = ParseCount(arg, next());
-    else if (arg == "--seed") params.seed = ParseCount(arg, next());
-    else if (arg == "--threads") params.threads = unsigned(std::max<std::size_t>(1, ParseCount(arg, next())));
+    if (arg == "--stats")
+      statsOnly = true;
+    else if (arg == "--samples")
+      params.faceSamples = ParseCount(arg, next());
+    else if (arg == "--seed")
+      params.seed = ParseCount(arg, next());
+    else if (arg == "--threads")
+      params.threads = unsigned(std::max<std::size_t>(1, ParseCount(arg, next())));
     else if (arg == "-h" || arg == "--help") {
       std::cout << kUsage;
       return 0;
     } else if (!arg.empty() && arg[0] == '-') {
       std::cerr << "mesh_distance: error: unknown option " << arg << '\n' << kUsage;
       return 1;
-    } else files.push_back(arg);
+    } else
+      files.push_back(arg);
   }
   if (files.size() != (statsOnly ? 1u : 2u)) {
     std::cerr << kUsage;

@@ -37,9 +37,9 @@ class EdgeO;
 class FaceO;
 struct UsedTypesO : public vcg::UsedTypes<vcg::Use<VertexO>::AsVertexType, vcg::Use<EdgeO>::AsEdgeType,
                                           vcg::Use<FaceO>::AsFaceType> {};
-class VertexO : public vcg::Vertex<UsedTypesO, vcg::vertex::InfoOcf, vcg::vertex::Coord3f, vcg::vertex::BitFlags,
-                                   vcg::vertex::Normal3f, vcg::vertex::Qualityf, vcg::vertex::Color4b,
-                                   vcg::vertex::VFAdjOcf, vcg::vertex::MarkOcf> {};
+class VertexO : public vcg::Vertex<UsedTypesO, vcg::vertex::InfoOcf, vcg::vertex::Coord3f,
+                                   vcg::vertex::BitFlags, vcg::vertex::Normal3f, vcg::vertex::Qualityf,
+                                   vcg::vertex::Color4b, vcg::vertex::VFAdjOcf, vcg::vertex::MarkOcf> {};
 class EdgeO : public vcg::Edge<UsedTypesO, vcg::edge::BitFlags, vcg::edge::EVAdj, vcg::edge::EEAdj> {};
 class FaceO : public vcg::Face<UsedTypesO, vcg::face::InfoOcf, vcg::face::VertexRef, vcg::face::BitFlags,
                                vcg::face::Normal3f, vcg::face::QualityfOcf, vcg::face::MarkOcf,
@@ -53,7 +53,9 @@ void EnableAdjacency(MeshO& m) {
 }
 
 /// Unit icosphere (vcglib's Sphere: 20 * 4^subdiv faces, closed, genus 0, outward).
-void MakeSphere(MeshD& m, int subdiv = 2) { molremesh::test::Icosphere(m, subdiv); }
+void MakeSphere(MeshD& m, int subdiv = 2) {
+  molremesh::test::Icosphere(m, subdiv);
+}
 
 using molremesh::test::MakeMesh; // mesh from explicit points and index triples
 
@@ -121,8 +123,9 @@ TEST(CleanRawMesh, CleanSphereIsLeftExactlyAsItWas) {
   const Soup after = ToSoup(m);
   EXPECT_EQ(after.points, before.points);
   EXPECT_EQ(after.faces, before.faces);
-  EXPECT_EQ(r.mergedVertices + r.removedDuplicateFaces + r.removedDegenerateFaces + r.removedNonManifoldFaces +
-                r.splitNonManifoldVertices + r.flippedFacesForOrientation + r.closedHoles + r.removedSmallComponents,
+  EXPECT_EQ(r.mergedVertices + r.removedDuplicateFaces + r.removedDegenerateFaces +
+                r.removedNonManifoldFaces + r.splitNonManifoldVertices + r.flippedFacesForOrientation +
+                r.closedHoles + r.removedSmallComponents,
             0u);
 }
 
@@ -187,9 +190,9 @@ TEST(CleanRawMesh, DuplicateFacesAreRemoved) {
   MakeSphere(sphere);
   Soup s = ToSoup(sphere);
   const std::size_t faces = s.faces.size();
-  s.faces.push_back(s.faces[0]);                                        // same orientation
-  s.faces.push_back({s.faces[5][0], s.faces[5][2], s.faces[5][1]});     // reversed
-  s.faces.push_back({s.faces[9][1], s.faces[9][2], s.faces[9][0]});     // rotated
+  s.faces.push_back(s.faces[0]);                                    // same orientation
+  s.faces.push_back({s.faces[5][0], s.faces[5][2], s.faces[5][1]}); // reversed
+  s.faces.push_back({s.faces[9][1], s.faces[9][2], s.faces[9][0]}); // rotated
   MeshD m;
   MakeMesh(m, s.points, s.faces);
   const auto r = Clean::Do(m);
@@ -276,7 +279,7 @@ TEST(CleanRawMesh, FinOnAnEdgeIsRemovedAndTheSphereStaysClosed) {
   const std::size_t faces = s.faces.size();
   const int a = s.faces[0][0], b = s.faces[0][1];
   s.points.push_back((s.points[a] + s.points[b]) * 1.5); // outside the sphere
-  s.faces.push_back({a, b, int(s.points.size()) - 1});  // a third face on edge ab
+  s.faces.push_back({a, b, int(s.points.size()) - 1});   // a third face on edge ab
   MeshD m;
   MakeMesh(m, s.points, s.faces);
   ASSERT_EQ(Quality::Compute(m).nonManifoldEdges, 1u);
@@ -291,7 +294,7 @@ TEST(CleanRawMesh, FinOnAnEdgeIsRemovedAndTheSphereStaysClosed) {
 
 TEST(CleanRawMesh, TwoTetrahedraSharingAnEdgeBecomeOneClosedManifold) {
   // Two tetrahedra on either side of the plane y = 0, sharing only edge ab: four faces on one edge.
-  const std::vector<Point> points{Point(0, 0, 0),      Point(1, 0, 0),       Point(0.5, 1, 0.5),
+  const std::vector<Point> points{Point(0, 0, 0),      Point(1, 0, 0),      Point(0.5, 1, 0.5),
                                   Point(0.5, 1, -0.5), Point(0.5, -1, 0.5), Point(0.5, -1, -0.5)};
   // Outward faces of tetra (0, 1, 2, 3) and of its mirror (0, 1, 4, 5).
   const std::vector<std::array<int, 3>> faces{{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {0, 2, 3},
@@ -328,7 +331,8 @@ TEST(CleanRawMesh, SpheresTouchingAtAVertexAreSeparatedWithoutTouching) {
     map[i] = int(s.points.size()) - 1;
   }
   const std::size_t faces = s.faces.size();
-  for (std::size_t f = 0; f < faces; ++f) s.faces.push_back({map[s.faces[f][0]], map[s.faces[f][2]], map[s.faces[f][1]]});
+  for (std::size_t f = 0; f < faces; ++f)
+    s.faces.push_back({map[s.faces[f][0]], map[s.faces[f][2]], map[s.faces[f][1]]});
   MeshD m;
   MakeMesh(m, s.points, s.faces);
   ASSERT_EQ(Quality::Compute(m).nonManifoldVertices, 1u);
@@ -431,7 +435,8 @@ TEST(CleanRawMesh, CavityNormalsPointIntoTheCavity) {
   const Soup t = ToSoup(inner);
   const int offset = int(s.points.size());
   for (const Point& p : t.points) s.points.push_back(p * 0.5);
-  for (const auto& f : t.faces) s.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset}); // outward: wrong for a cavity
+  for (const auto& f : t.faces)
+    s.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset}); // outward: wrong for a cavity
   Clean::Params params;
   params.minComponentFraction = 0;
   for (const bool inward : {true, false}) {
@@ -494,7 +499,8 @@ TEST(CleanRawMesh, TinyExtraComponentIsRemovedAndCounted) {
   Soup s = ToSoup(sphere);
   const std::size_t faces = s.faces.size();
   const int offset = int(s.points.size());
-  for (const Point& p : {Point(5, 5, 5), Point(5.1, 5, 5), Point(5, 5.1, 5), Point(5, 5, 5.1)}) s.points.push_back(p);
+  for (const Point& p : {Point(5, 5, 5), Point(5.1, 5, 5), Point(5, 5.1, 5), Point(5, 5, 5.1)})
+    s.points.push_back(p);
   for (const auto& f : std::vector<std::array<int, 3>>{{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}})
     s.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset});
   for (const double fraction : {0.01, 0.0}) {
@@ -601,7 +607,8 @@ TEST(CleanRawMesh, OpenFixturesStayOpenAndNothingIsFoldedOverThem) {
 // Refusals: before anything changes
 // ------------------------------------------------------------------------------------------------
 
-void ExpectRefusedUnchanged(MeshD& m, const std::string& expected, const Clean::Params& params = Clean::Params()) {
+void ExpectRefusedUnchanged(MeshD& m, const std::string& expected,
+                            const Clean::Params& params = Clean::Params()) {
   const Soup before = ToSoup(m);
   const int vn = m.vn, fn = m.fn;
   const auto r = Clean::Do(m, params);
@@ -665,7 +672,8 @@ TEST(CleanRawMesh, RefusesAllDegenerateMeshesAndBadParameters) {
 TEST(CleanRawMesh, FloatMeshWithOptionalAdjacency) {
   MeshO m;
   std::string error;
-  ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), error)) << error;
+  ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), error))
+      << error;
   const int vn = m.vn, fn = m.fn;
   // Without FF/VF adjacency enabled: refused, untouched.
   const auto refused = molremesh::CleanRawMesh<MeshO>::Do(m);
@@ -689,7 +697,8 @@ TEST(CleanRawMesh, FloatMeshWithOptionalAdjacency) {
 
   // Same answer as the double mesh.
   MeshD d;
-  ASSERT_TRUE(molremesh::LoadMesh(d, molremesh::test::SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), error)) << error;
+  ASSERT_TRUE(molremesh::LoadMesh(d, molremesh::test::SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), error))
+      << error;
   const auto rd = Clean::Do(d);
   EXPECT_EQ(r.facesAfter, rd.facesAfter);
   EXPECT_EQ(r.closedHoles, rd.closedHoles);
@@ -743,27 +752,34 @@ void CheckRealMesh(const RealMesh& c, bool printRow) {
   ASSERT_TRUE(again.ok);
   EXPECT_EQ(again.facesAfter, r.facesAfter);
   EXPECT_EQ(again.mergedVertices + again.removedDuplicateFaces + again.removedDegenerateFaces +
-                again.removedNonManifoldFaces + again.splitNonManifoldVertices + again.flippedFacesForOrientation +
-                again.closedHoles + again.removedSmallComponents + again.repairedTangles,
+                again.removedNonManifoldFaces + again.splitNonManifoldVertices +
+                again.flippedFacesForOrientation + again.closedHoles + again.removedSmallComponents +
+                again.repairedTangles,
             0u);
   if (printRow)
-    std::printf("| %s | %zu | %zu | merged %zu, unref %zu, dup %zu, degen %zu+%zu flip, nm-faces %zu, split %zu "
-                "(retri %zu), flipped %zu (%zu comps), tangles %zu/%zu (-%zu +%zu), small comps %zu (%zu f), holes %zu "
-                "(+%zu f, %zu open), orphans %zu | bnd %zu | nm %zu/%zu | deg %zu | SI %zu->%zu | comps %zu | genus %d | "
-                "dA %+.3f%% | dV %+.3f%% | %.2f s |\n",
-                c.file, r.facesBefore, r.facesAfter, r.mergedVertices, r.removedUnreferencedVertices,
-                r.removedDuplicateFaces, r.removedDegenerateFaces, r.flippedDegenerateFaces, r.removedNonManifoldFaces,
-                r.splitNonManifoldVertices, r.retriangulatedPinchFans, r.flippedFacesForOrientation, r.flippedComponents,
-                r.repairedTangles, r.repairedTangles + r.unrepairedTangles, r.tangleFacesRemoved, r.tangleFacesAdded,
-                r.removedSmallComponents, r.removedComponentFaces, r.closedHoles, r.holeFacesAdded, r.unfilledHoles,
-                r.removedOrphanedVertices, r.boundaryEdgesAfter, r.nonManifoldEdgesAfter, r.nonManifoldVerticesAfter,
-                r.degenerateFacesAfter, r.selfIntersectingFacesBefore, r.selfIntersectingFacesAfter, r.componentsAfter,
-                r.genusAfter, areaChange, volumeChange, seconds);
+    std::printf(
+        "| %s | %zu | %zu | merged %zu, unref %zu, dup %zu, degen %zu+%zu flip, nm-faces %zu, split %zu "
+        "(retri %zu), flipped %zu (%zu comps), tangles %zu/%zu (-%zu +%zu), small comps %zu (%zu f), holes "
+        "%zu "
+        "(+%zu f, %zu open), orphans %zu | bnd %zu | nm %zu/%zu | deg %zu | SI %zu->%zu | comps %zu | genus "
+        "%d | "
+        "dA %+.3f%% | dV %+.3f%% | %.2f s |\n",
+        c.file, r.facesBefore, r.facesAfter, r.mergedVertices, r.removedUnreferencedVertices,
+        r.removedDuplicateFaces, r.removedDegenerateFaces, r.flippedDegenerateFaces,
+        r.removedNonManifoldFaces, r.splitNonManifoldVertices, r.retriangulatedPinchFans,
+        r.flippedFacesForOrientation, r.flippedComponents, r.repairedTangles,
+        r.repairedTangles + r.unrepairedTangles, r.tangleFacesRemoved, r.tangleFacesAdded,
+        r.removedSmallComponents, r.removedComponentFaces, r.closedHoles, r.holeFacesAdded, r.unfilledHoles,
+        r.removedOrphanedVertices, r.boundaryEdgesAfter, r.nonManifoldEdgesAfter, r.nonManifoldVerticesAfter,
+        r.degenerateFacesAfter, r.selfIntersectingFacesBefore, r.selfIntersectingFacesAfter,
+        r.componentsAfter, r.genusAfter, areaChange, volumeChange, seconds);
 }
 
 class RealMeshes : public ::testing::TestWithParam<RealMesh> {};
 
-TEST_P(RealMeshes, CleanedMeshIsAValidClosedManifold) { CheckRealMesh(GetParam(), true); }
+TEST_P(RealMeshes, CleanedMeshIsAValidClosedManifold) {
+  CheckRealMesh(GetParam(), true);
+}
 
 INSTANTIATE_TEST_SUITE_P(Shared, RealMeshes,
                          ::testing::Values(RealMesh{"lysozyme_Lys1_msms.ply", true, 0.01},
@@ -863,7 +879,11 @@ TEST(CleanRawMesh, SameOutputForAnyThreadCount) {
 }
 
 // Manual: the two large meshes (a few seconds each). Run with --gtest_also_run_disabled_tests.
-TEST(CleanRawMeshLarge, DISABLED_HivProtease) { CheckRealMesh({"hivprotease_1HPV_edtsurf_mc.ply", true, 0.01}, true); }
-TEST(CleanRawMeshLarge, DISABLED_MTor) { CheckRealMesh({"mtor_4JSV_edtsurf_vcmc.ply", true, 1.0}, true); }
+TEST(CleanRawMeshLarge, DISABLED_HivProtease) {
+  CheckRealMesh({"hivprotease_1HPV_edtsurf_mc.ply", true, 0.01}, true);
+}
+TEST(CleanRawMeshLarge, DISABLED_MTor) {
+  CheckRealMesh({"mtor_4JSV_edtsurf_vcmc.ply", true, 1.0}, true);
+}
 
 } // namespace

@@ -157,7 +157,8 @@ TEST(Cli, ReadsAndWritesPlyOffObjAndStl) {
     EXPECT_EQ(j["faces"], expected["faces"]) << extension;
     EXPECT_EQ(j["genus"], expected["genus"]) << extension;
     EXPECT_EQ(j["boundary_edges"], 0) << extension << ": STL's copies must be welded";
-    EXPECT_NEAR(j["area"].get<double>(), expected["area"].get<double>(), 1e-3 * expected["area"].get<double>());
+    EXPECT_NEAR(j["area"].get<double>(), expected["area"].get<double>(),
+                1e-3 * expected["area"].get<double>());
   }
   std::filesystem::remove_all(dir);
 }
@@ -166,8 +167,9 @@ TEST(Cli, RemeshRefusesBadInputAndUnknownStagesWritingNothing) {
   const auto dir = TempDir("cli_remesh_bad");
   const std::string out = (dir / "out.ply").string();
   ExpectInputError(Cli("remesh " + Quote(Fixture("nan_vertex.ply")) + " " + Quote(out)), "NaN");
-  ExpectInputError(Cli("remesh --stages clean,bogus " + Quote(SharedMesh("bpti_1bpi_msms.ply")) + " " + Quote(out)),
-                   "unknown stage 'bogus'");
+  ExpectInputError(
+      Cli("remesh --stages clean,bogus " + Quote(SharedMesh("bpti_1bpi_msms.ply")) + " " + Quote(out)),
+      "unknown stage 'bogus'");
   ExpectInputError(Cli("remesh --stages cvt " + Quote(Fixture("nonmanifold_fan.ply")) + " " + Quote(out)),
                    "stage 'cvt' failed");
   EXPECT_FALSE(std::filesystem::exists(out));

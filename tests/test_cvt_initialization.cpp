@@ -30,7 +30,9 @@ using molremesh::ReferenceSurface;
 using namespace molremesh::test;
 using Cvt = molremesh::CvtInitialization<MeshD>;
 
-QualityReport Measure(const MeshD& m) { return MeshQuality<MeshD>::Compute(m); }
+QualityReport Measure(const MeshD& m) {
+  return MeshQuality<MeshD>::Compute(m);
+}
 
 /// Components as (closed, genus), sorted: the topology CVT must keep.
 std::vector<std::pair<bool, int>> Topology(const QualityReport& r) {
@@ -88,7 +90,8 @@ TEST(CvtInitialization, RefusesBrokenInputsWithoutTouchingThem) {
     const int vn = m.vn, fn = m.fn;
     auto bits = [&m] { // positions bit for bit (NaN included)
       std::vector<unsigned char> b(m.vert.size() * sizeof(Point));
-      for (std::size_t i = 0; i < m.vert.size(); ++i) std::memcpy(&b[i * sizeof(Point)], &m.vert[i].P(), sizeof(Point));
+      for (std::size_t i = 0; i < m.vert.size(); ++i)
+        std::memcpy(&b[i * sizeof(Point)], &m.vert[i].P(), sizeof(Point));
       return b;
     };
     const auto before = bits();
@@ -298,7 +301,8 @@ TEST(CvtInitialization, OutputDoesNotDependOnTheThreadCount) {
     std::vector<Point> pos;
     for (const auto& v : m.vert) pos.push_back(v.P());
     std::vector<std::array<long, 3>> tri;
-    for (const auto& f : m.face) tri.push_back({f.cV(0) - &m.vert[0], f.cV(1) - &m.vert[0], f.cV(2) - &m.vert[0]});
+    for (const auto& f : m.face)
+      tri.push_back({f.cV(0) - &m.vert[0], f.cV(1) - &m.vert[0], f.cV(2) - &m.vert[0]});
     positions.push_back(pos);
     faces.push_back(tri);
   }
@@ -354,7 +358,7 @@ TEST_P(RealMesh, AcceptanceFigures) {
 }
 
 INSTANTIATE_TEST_SUITE_P(CvtInitialization, RealMesh,
-                         ::testing::Values("bpti_1bpi_msms.ply", "lysozyme_Lys1_msms.ply", "galactose_grasp.ply",
-                                           "ache_1MAH_edtsurf_vcmc.ply"));
+                         ::testing::Values("bpti_1bpi_msms.ply", "lysozyme_Lys1_msms.ply",
+                                           "galactose_grasp.ply", "ache_1MAH_edtsurf_vcmc.ply"));
 
 } // namespace

@@ -454,9 +454,15 @@ std::size_t RandomOperations(OpsSetup<Mesh>& s, int count, unsigned seed) {
     auto* f = &s.m.face[fi];
     bool ok = false;
     switch (rng() % 4) {
-    case 0: ok = s.ops->SplitEdge(f, z) != nullptr; break;
-    case 1: ok = s.ops->CollapseEdge(f, z, 2.0 * s.L); break;
-    case 2: ok = s.ops->FlipEdge(f, z); break;
+    case 0:
+      ok = s.ops->SplitEdge(f, z) != nullptr;
+      break;
+    case 1:
+      ok = s.ops->CollapseEdge(f, z, 2.0 * s.L);
+      break;
+    case 2:
+      ok = s.ops->FlipEdge(f, z);
+      break;
     default: {
       auto* v = f->V(z);
       const Point p(v->P()[0], v->P()[1], v->P()[2]);
@@ -527,7 +533,8 @@ TEST(LocalRemeshingOps, JacobiMovesEndValidAndDeterministic) {
       const Point p = s.m.vert[i].P();
       original.push_back(p);
       // Large random moves: many would fold or tangle the mesh.
-      const auto proj = s.ref.Project(p + Point(u(rng), u(rng), u(rng)) * (0.8 * s.L), s.ops->Footpoint(s.m.vert[i]));
+      const auto proj =
+          s.ref.Project(p + Point(u(rng), u(rng), u(rng)) * (0.8 * s.L), s.ops->Footpoint(s.m.vert[i]));
       vertices.push_back(std::uint32_t(i));
       targets.push_back(proj.point);
       feet.push_back(proj.face);

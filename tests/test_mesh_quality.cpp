@@ -72,7 +72,9 @@ void AddTetrahedron(std::vector<Point>& points, std::vector<std::array<int, 3>>&
 }
 
 /// Unit icosphere: icosahedron, midpoint-subdivided, projected to the unit sphere.
-void MakeIcosphere(MeshD& m, int subdivisions) { molremesh::test::Icosphere(m, subdivisions); }
+void MakeIcosphere(MeshD& m, int subdivisions) {
+  molremesh::test::Icosphere(m, subdivisions);
+}
 
 int SumHistogram(const molremesh::QualityReport& r) {
   int sum = 0;
@@ -160,7 +162,7 @@ TEST(MeshQuality, AngleThresholdsFollowParams) {
   const double half = 70.0 * kPi / 180.0;
   MeshD m;
   MakeMesh(m, {{0, 0, 0}, {std::sin(half), -std::cos(half), 0}, {std::sin(half), std::cos(half), 0}},
-                           {{0, 1, 2}});
+           {{0, 1, 2}});
   const auto angles = Quality::FaceAngles(m.face[0]);
   EXPECT_NEAR(angles.degrees[0], 40.0, 1e-9);
   EXPECT_NEAR(angles.degrees[1], 70.0, 1e-9);
@@ -172,7 +174,7 @@ TEST(MeshQuality, AngleThresholdsFollowParams) {
   EXPECT_EQ(r.obtuseFaces, 0u);
   params.smallAngle = 45;
   params.obtuseAngle = 70.0 - 1e-9; // the 70 degree angle counts
-  params.largeAngle = 69.9; // >
+  params.largeAngle = 69.9;         // >
   r = Quality::Compute(m, params);
   EXPECT_EQ(r.smallAngleFaces, 1u);
   EXPECT_EQ(r.obtuseFaces, 1u);
@@ -220,7 +222,7 @@ TEST(MeshQuality, Icosahedron) {
   ASSERT_EQ(r.valenceHistogram.size(), 1u);
   EXPECT_EQ(r.valenceHistogram.at(5), 12u);
   EXPECT_NEAR(r.qMin, 1.0, 1e-9);
-  EXPECT_NEAR(r.area, 5 * std::sqrt(3.0) * 4, 1e-9);               // 5 sqrt(3) a^2
+  EXPECT_NEAR(r.area, 5 * std::sqrt(3.0) * 4, 1e-9);                  // 5 sqrt(3) a^2
   EXPECT_NEAR(r.volume, 5.0 / 12.0 * (3 + std::sqrt(5.0)) * 8, 1e-9); // 5/12 (3 + sqrt 5) a^3
   EXPECT_NEAR(r.meanEdgeLength, 2.0, 1e-12);
   EXPECT_EQ(r.selfIntersectingPairs, 0u);
@@ -373,8 +375,8 @@ TEST(MeshQuality, OpenGridPatch) {
         EXPECT_EQ(valence[j * 5 + i], 6);
       }
     }
-  EXPECT_EQ(valence[0], 3);  // corner on the diagonal
-  EXPECT_EQ(valence[4], 2);  // corner off the diagonal
+  EXPECT_EQ(valence[0], 3); // corner on the diagonal
+  EXPECT_EQ(valence[4], 2); // corner off the diagonal
 }
 
 TEST(MeshQuality, AnnulusHasTwoBoundaryLoops) {
@@ -418,7 +420,7 @@ TEST(MeshQuality, NonManifoldEdge) {
   // Three triangles hinged on the edge (0, 1).
   MeshD m;
   MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0.5, 1, 0}, {0.5, -1, 0}, {0.5, 0, 1}},
-                           {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
+           {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}});
   const auto r = Quality::Compute(m);
   EXPECT_EQ(r.nonManifoldEdges, 1u);
   // The vertices of the non-manifold edge are not counted again (vcglib's convention).
@@ -513,7 +515,7 @@ TEST(MeshQuality, PinchWithinOneComponent) {
 TEST(MeshQuality, CrossingTrianglesSharingNoVertex) {
   MeshD m;
   MakeMesh(m, {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0.5, 0.5, -1}, {0.5, 0.5, 1}, {3, 3, 0.2}},
-                           {{0, 1, 2}, {3, 4, 5}});
+           {{0, 1, 2}, {3, 4, 5}});
   const auto r = Quality::Compute(m);
   EXPECT_EQ(r.selfIntersectingPairs, 1u);
   EXPECT_EQ(r.adjacentOverlapPairs, 0u);
@@ -530,27 +532,26 @@ TEST(MeshQuality, CrossingTrianglesSharingNoVertex) {
 TEST(MeshQuality, DisjointTriangles) {
   MeshD m;
   MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0.5}, {1, 0, 0.5}, {0, 1, 0.5}},
-                           {{0, 1, 2}, {3, 4, 5}});
+           {{0, 1, 2}, {3, 4, 5}});
   EXPECT_EQ(Quality::Compute(m).selfIntersectingPairs, 0u);
   // Near miss: the second triangle's plane crosses the first one's, but beyond its edge.
   MeshD nearMiss;
   MakeMesh(nearMiss, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0.6, 0.6, -1}, {0.6, 0.6, 1}, {2, 2, 0}},
-                                  {{0, 1, 2}, {3, 4, 5}});
+           {{0, 1, 2}, {3, 4, 5}});
   EXPECT_EQ(Quality::Compute(nearMiss).selfIntersectingPairs, 0u);
 }
 
 TEST(MeshQuality, CoplanarTriangles) {
   MeshD overlap;
   MakeMesh(overlap, {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, {0.5, 0.5, 0}, {3, 0.5, 0}, {0.5, 3, 0}},
-                                 {{0, 1, 2}, {3, 4, 5}});
+           {{0, 1, 2}, {3, 4, 5}});
   EXPECT_EQ(Quality::Compute(overlap).selfIntersectingPairs, 1u);
   MeshD contained;
   MakeMesh(contained, {{0, 0, 0}, {4, 0, 0}, {0, 4, 0}, {0.5, 0.5, 0}, {1, 0.5, 0}, {0.5, 1, 0}},
-                                   {{0, 1, 2}, {3, 4, 5}});
+           {{0, 1, 2}, {3, 4, 5}});
   EXPECT_EQ(Quality::Compute(contained).selfIntersectingPairs, 1u);
   MeshD apart;
-  MakeMesh(apart, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, 2, 0}},
-                               {{0, 1, 2}, {3, 4, 5}});
+  MakeMesh(apart, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {2, 1, 0}, {1, 2, 0}}, {{0, 1, 2}, {3, 4, 5}});
   EXPECT_EQ(Quality::Compute(apart).selfIntersectingPairs, 0u);
 }
 
@@ -558,7 +559,7 @@ TEST(MeshQuality, TouchingAtDuplicatedVertexCountsAsIntersecting) {
   // Closed-set semantics: two faces whose distinct vertices 2 and 3 have the same position touch.
   MeshD m;
   MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 1, 0}, {1, 2, 0.5}, {-1, 2, 0.5}},
-                           {{0, 1, 2}, {3, 4, 5}});
+           {{0, 1, 2}, {3, 4, 5}});
   EXPECT_EQ(Quality::Compute(m).selfIntersectingPairs, 1u);
 }
 
@@ -662,8 +663,10 @@ TEST(MeshQuality, GridCountsMatchBruteForce) {
       for (int k = 0; k < 200; ++k) {
         if (k == a) continue;
         const double d = (points[k] - points[a]).Norm() + std::uniform_real_distribution<double>(0, 2)(rng);
-        if (d < d1) best2 = best1, d2 = d1, best1 = k, d1 = d;
-        else if (d < d2) best2 = k, d2 = d;
+        if (d < d1)
+          best2 = best1, d2 = d1, best1 = k, d1 = d;
+        else if (d < d2)
+          best2 = k, d2 = d;
       }
       b = best1;
       c = best2;
@@ -692,9 +695,16 @@ TEST(MeshQuality, OversizedFacesMatchBruteForce) {
   MeshD m;
   MakeIcosphere(m, 4);
   MeshD big;
-  MakeMesh(big, {{-1.5, -1.5, -0.3}, {1.5, -1.5, 0.3}, {0, 1.5, 0},
-                 {-1.5, 0.2, -1.5}, {1.5, -0.2, -1.5}, {0, 0.1, 1.5},
-                 {-1.4, -1.4, 1.0}, {1.4, 1.4, 1.0}, {0, 0, -1.2}},
+  MakeMesh(big,
+           {{-1.5, -1.5, -0.3},
+            {1.5, -1.5, 0.3},
+            {0, 1.5, 0},
+            {-1.5, 0.2, -1.5},
+            {1.5, -0.2, -1.5},
+            {0, 0.1, 1.5},
+            {-1.4, -1.4, 1.0},
+            {1.4, 1.4, 1.0},
+            {0, 0, -1.2}},
            {{0, 1, 2}, {3, 4, 5}, {6, 7, 8}});
   vcg::tri::Append<MeshD, MeshD>::Mesh(m, big);
   const auto r = Quality::Compute(m);
@@ -766,7 +776,7 @@ TEST(MeshQuality, FindSelfIntersectionsListsEachPairOnceWithItsKind) {
 TEST(MeshQuality, DegenerateFaces) {
   MeshD m;
   MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0.5, std::sqrt(3.0) / 2, 0}, {2, 0, 0}, {3, 0, 0}, {4, 0, 0}},
-                           {{0, 1, 2}, {0, 0, 1}, {3, 4, 5}});
+           {{0, 1, 2}, {0, 0, 1}, {3, 4, 5}});
   const auto r = Quality::Compute(m);
   EXPECT_EQ(r.faces, 3u);
   EXPECT_EQ(r.degenerateFaces, 2u);

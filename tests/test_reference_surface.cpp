@@ -48,7 +48,8 @@ constexpr double kPi = 3.14159265358979323846;
 SurfaceProjection BruteForce(const Reference& ref, const Point& p) {
   SurfaceProjection best;
   for (std::size_t f = 0; f < ref.FaceCount(); ++f) {
-    const Point q = ClosestPointOnTriangle(p, ref.Corner(int(f), 0), ref.Corner(int(f), 1), ref.Corner(int(f), 2));
+    const Point q =
+        ClosestPointOnTriangle(p, ref.Corner(int(f), 0), ref.Corner(int(f), 1), ref.Corner(int(f), 2));
     const double d = (q - p).Norm();
     if (d < best.distance) {
       best.distance = d;
@@ -182,7 +183,8 @@ TEST(ReferenceSurface, LocalProjectionDoesNotCrossACreviceBottom) {
   std::vector<std::array<int, 3>> faces;
   const int n = 8;
   // Profile in the xz plane: near wall x = 0 (z from 4 down to 0), bottom, far wall x = 0.2.
-  std::vector<Point> profile{{0, 0, 4}, {0, 0, 2}, {0, 0, 0}, {0.1, 0, -0.1}, {0.2, 0, 0}, {0.2, 0, 2}, {0.2, 0, 4}};
+  std::vector<Point> profile{{0, 0, 4},   {0, 0, 2},   {0, 0, 0},  {0.1, 0, -0.1},
+                             {0.2, 0, 0}, {0.2, 0, 2}, {0.2, 0, 4}};
   for (int j = 0; j <= n; ++j)
     for (const Point& q : profile) pts.emplace_back(q[0], q[1] + 4.0 * j / n, q[2]);
   const int w = int(profile.size());
@@ -220,9 +222,12 @@ TEST(ReferenceSurface, ParallelProjectionIsThreadSafeAndIdentical) {
   std::vector<SurfaceProjection> serial(queries.size()), parallel(queries.size());
   for (std::size_t i = 0; i < queries.size(); ++i) serial[i] = ref.Project(queries[i], hints[i]);
   std::vector<Reference::Scratch> scratch(4);
-  molremesh::ParallelFor(queries.size(), 4, [&](std::size_t b, std::size_t e, int t) {
-    for (std::size_t i = b; i < e; ++i) parallel[i] = ref.Project(queries[i], hints[i], scratch[t]);
-  }, 64);
+  molremesh::ParallelFor(
+      queries.size(), 4,
+      [&](std::size_t b, std::size_t e, int t) {
+        for (std::size_t i = b; i < e; ++i) parallel[i] = ref.Project(queries[i], hints[i], scratch[t]);
+      },
+      64);
   for (std::size_t i = 0; i < queries.size(); ++i) {
     EXPECT_EQ(serial[i].face, parallel[i].face);
     EXPECT_EQ(serial[i].point, parallel[i].point);

@@ -49,12 +49,12 @@ TEST(TriangleDistance, EveryVoronoiRegion) {
   Point q;
   EXPECT_DOUBLE_EQ(TriangleDistance2(Point(0.2, 0.2, 0.5), a, b, c, q), 0.25); // interior, above
   EXPECT_NEAR((q - Point(0.2, 0.2, 0)).Norm(), 0, 1e-15);
-  EXPECT_DOUBLE_EQ(TriangleDistance2(Point(-1, -1, 0), a, b, c, q), 2.0);     // corner a
-  EXPECT_DOUBLE_EQ(TriangleDistance2(Point(2, 0, 0), a, b, c, q), 1.0);       // corner b
-  EXPECT_DOUBLE_EQ(TriangleDistance2(Point(0, 3, 0), a, b, c, q), 4.0);       // corner c
-  EXPECT_DOUBLE_EQ(TriangleDistance2(Point(0.5, -2, 0), a, b, c, q), 4.0);    // edge ab
-  EXPECT_DOUBLE_EQ(TriangleDistance2(Point(-3, 0.5, 0), a, b, c, q), 9.0);    // edge ca
-  EXPECT_NEAR(TriangleDistance2(Point(1, 1, 0), a, b, c, q), 0.5, 1e-15);     // edge bc
+  EXPECT_DOUBLE_EQ(TriangleDistance2(Point(-1, -1, 0), a, b, c, q), 2.0);  // corner a
+  EXPECT_DOUBLE_EQ(TriangleDistance2(Point(2, 0, 0), a, b, c, q), 1.0);    // corner b
+  EXPECT_DOUBLE_EQ(TriangleDistance2(Point(0, 3, 0), a, b, c, q), 4.0);    // corner c
+  EXPECT_DOUBLE_EQ(TriangleDistance2(Point(0.5, -2, 0), a, b, c, q), 4.0); // edge ab
+  EXPECT_DOUBLE_EQ(TriangleDistance2(Point(-3, 0.5, 0), a, b, c, q), 9.0); // edge ca
+  EXPECT_NEAR(TriangleDistance2(Point(1, 1, 0), a, b, c, q), 0.5, 1e-15);  // edge bc
   EXPECT_NEAR((q - Point(0.5, 0.5, 0)).Norm(), 0, 1e-15);
 }
 
@@ -115,7 +115,7 @@ TEST(SurfaceDistance, HalfPlaneIsOneSided) {
   MakeGrid(half, 10, 0.5, 0.0); // [0, 0.5]^2, inside the full square
   const auto d = Distance::Symmetric(full, half);
   ASSERT_TRUE(d.ok) << d.message;
-  EXPECT_NEAR(d.bToA.max, 0.0, 1e-12);                 // the half square lies on the full one
+  EXPECT_NEAR(d.bToA.max, 0.0, 1e-12);                  // the half square lies on the full one
   EXPECT_NEAR(d.aToB.vertexMax, std::sqrt(0.5), 1e-12); // corner (1,1) to corner (0.5,0.5)
   EXPECT_NEAR(d.hausdorff, std::sqrt(0.5), 1e-12);
   // Area-weighted mean of the distance of the unit square to the half-size corner square,
@@ -153,8 +153,10 @@ TEST(SurfaceDistance, VertexDistancesMatchBruteForceOnRealMeshes) {
 TEST(SurfaceDistance, LargestSharedMeshInSeconds) {
   MeshD m, moved;
   std::string error;
-  ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("mtor_4JSV_edtsurf_vcmc.ply"), error)) << error;
-  ASSERT_TRUE(molremesh::LoadMesh(moved, molremesh::test::SharedMesh("mtor_4JSV_edtsurf_vcmc.ply"), error)) << error;
+  ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("mtor_4JSV_edtsurf_vcmc.ply"), error))
+      << error;
+  ASSERT_TRUE(molremesh::LoadMesh(moved, molremesh::test::SharedMesh("mtor_4JSV_edtsurf_vcmc.ply"), error))
+      << error;
   ASSERT_GT(m.face.size(), 500000u);
   const double shift = 0.05; // well under the mean edge length (0.66)
   vcg::tri::UpdatePosition<MeshD>::Translate(moved, Point(shift, 0, 0));
@@ -187,8 +189,8 @@ TEST(SurfaceDistance, DeterministicForSeedAndThreads) {
   EXPECT_EQ(first.bToA.rms, second.bToA.rms);
   params.seed = 99;
   const auto other = Distance::Symmetric(a, b, params);
-  EXPECT_NE(first.aToB.faceMean, other.aToB.faceMean);    // other samples...
-  EXPECT_EQ(first.aToB.vertexMax, other.aToB.vertexMax);  // ...same vertices
+  EXPECT_NE(first.aToB.faceMean, other.aToB.faceMean);   // other samples...
+  EXPECT_EQ(first.aToB.vertexMax, other.aToB.vertexMax); // ...same vertices
 }
 
 TEST(SurfaceDistance, FailuresAreReportedNotCrashed) {

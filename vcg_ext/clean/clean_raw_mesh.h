@@ -102,7 +102,7 @@ namespace molremesh {
 
 /// What CleanRawMesh did. Counts are of elements, in the order of the steps.
 struct CleanRawMeshResult {
-  bool ok = true;      ///< false when the input was refused (then the mesh is unchanged) or on an internal error
+  bool ok = true; ///< false when the input was refused (then the mesh is unchanged) or on an internal error
   std::string message; ///< why it was refused; empty when ok
 
   // Before / after (MeshQuality figures of the input and of the result)
@@ -122,10 +122,12 @@ struct CleanRawMeshResult {
   // Step 2 and 5, 8: manifoldness
   std::size_t removedNonManifoldFaces = 0;  ///< faces removed to make non-manifold edges manifold
   std::size_t splitNonManifoldVertices = 0; ///< vertex copies created by splitting non-manifold vertices
-  std::size_t retriangulatedPinchFans = 0;  ///< copies whose fan was removed and refilled so the two no longer touch
+  std::size_t retriangulatedPinchFans =
+      0; ///< copies whose fan was removed and refilled so the two no longer touch
   std::size_t pinchFanFacesRemoved = 0, pinchFanFacesAdded = 0; ///< faces of those retriangulations
-  std::size_t movedSplitVertices = 0;       ///< copies moved by 1% into their own fan instead (no valid retriangulation)
-  std::size_t touchingSplitVertices = 0;    ///< copies left touching their original (neither worked)
+  std::size_t movedSplitVertices =
+      0; ///< copies moved by 1% into their own fan instead (no valid retriangulation)
+  std::size_t touchingSplitVertices = 0; ///< copies left touching their original (neither worked)
   // Steps 3 and 9: orientation
   std::size_t flippedFacesForOrientation = 0; ///< input faces whose orientation was reversed
   std::size_t flippedComponents = 0;          ///< closed components turned outward (included above)
@@ -133,7 +135,8 @@ struct CleanRawMeshResult {
   // Step 6: components and self-intersections
   std::size_t removedSmallComponents = 0; ///< components below minComponentFraction
   std::size_t removedComponentFaces = 0;  ///< their faces
-  std::size_t repairedTangles = 0;   ///< tangles (intersecting or incoherently oriented faces) removed and refilled
+  std::size_t repairedTangles =
+      0; ///< tangles (intersecting or incoherently oriented faces) removed and refilled
   std::size_t unrepairedTangles = 0; ///< tangles left as they are: intersecting regions with no valid refill,
                                      ///< plus one per component left non-orientable
   std::size_t tangleFacesRemoved = 0, tangleFacesAdded = 0; ///< faces removed and added by those repairs
@@ -164,7 +167,9 @@ struct CleanRawMeshResult {
   std::string Summary() const {
     if (!ok) return "clean raw mesh refused: " + message + "\n";
     std::string s;
-    auto line = [&s](const char* name, std::size_t value) { s += std::string(name) + ": " + std::to_string(value) + "\n"; };
+    auto line = [&s](const char* name, std::size_t value) {
+      s += std::string(name) + ": " + std::to_string(value) + "\n";
+    };
     auto real = [&s](const char* name, double value) {
       char buffer[64];
       std::snprintf(buffer, sizeof buffer, "%.6g", value);
@@ -228,20 +233,26 @@ public:
   using Result = CleanRawMeshResult;
 
   struct Params {
-    double mergeTolerance = 1e-6;        ///< merge vertices closer than this * mean edge length (0: exact copies only)
-    double degenerateAreaEpsilon = 1e-12;///< zero-area face: area <= this * (mean edge length)^2 (MeshQuality's definition)
-    int maxHoleEdges = 100;              ///< close boundary loops with at most this many edges (1UBQ EDTSurf's crack: 29)
-    double minComponentFraction = 0.01;  ///< remove components with fewer than this fraction of the faces (not the largest)
-    bool repairTangles = true;           ///< remove and refill local tangles (self-intersecting faces, orientation
-                                         ///< conflicts); a repair is kept only if its refill is valid
-    int maxRepairGrowth = 2;             ///< rings of faces added around a tangle when its first refill fails
-    int maxRepairRegionFaces = 200;      ///< larger tangles are left alone
-    int maxRepairAttempts = 64;          ///< remove-and-refill attempts in all (each rebuilds the adjacency, O(faces))
-    bool orientCavitiesInward = true;    ///< cavity components (nested in another closed one) get negative volume
-    bool measureSelfIntersections = true;///< count self-intersecting faces before and after (grid accelerated)
-    double maxFillDihedral = 150.0;      ///< degrees; a fill triangle never folds more than this against a neighbour
-    int threads = 0;                     ///< worker threads of the tangle search and the before/after
-                                         ///< measurements; 0 = all cores (same result)
+    double mergeTolerance =
+        1e-6; ///< merge vertices closer than this * mean edge length (0: exact copies only)
+    double degenerateAreaEpsilon =
+        1e-12; ///< zero-area face: area <= this * (mean edge length)^2 (MeshQuality's definition)
+    int maxHoleEdges = 100; ///< close boundary loops with at most this many edges (1UBQ EDTSurf's crack: 29)
+    double minComponentFraction =
+        0.01; ///< remove components with fewer than this fraction of the faces (not the largest)
+    bool repairTangles = true;      ///< remove and refill local tangles (self-intersecting faces, orientation
+                                    ///< conflicts); a repair is kept only if its refill is valid
+    int maxRepairGrowth = 2;        ///< rings of faces added around a tangle when its first refill fails
+    int maxRepairRegionFaces = 200; ///< larger tangles are left alone
+    int maxRepairAttempts = 64; ///< remove-and-refill attempts in all (each rebuilds the adjacency, O(faces))
+    bool orientCavitiesInward =
+        true; ///< cavity components (nested in another closed one) get negative volume
+    bool measureSelfIntersections =
+        true; ///< count self-intersecting faces before and after (grid accelerated)
+    double maxFillDihedral =
+        150.0;       ///< degrees; a fill triangle never folds more than this against a neighbour
+    int threads = 0; ///< worker threads of the tangle search and the before/after
+                     ///< measurements; 0 = all cores (same result)
   };
 
   /// Cleans m in place; see the file comment for the steps, the preconditions and the guarantees.
@@ -253,7 +264,9 @@ public:
       Run(m, params, cb, r);
     } catch (const std::exception& e) {
       r.ok = false;
-      r.message = std::string("internal error while cleaning (the mesh is valid but may be partially cleaned): ") + e.what();
+      r.message =
+          std::string("internal error while cleaning (the mesh is valid but may be partially cleaned): ") +
+          e.what();
       try {
         Finish(m);
       } catch (...) {
@@ -288,7 +301,9 @@ private:
   static std::uint64_t EdgeKey(Index a, Index b) {
     return (std::uint64_t(std::min(a, b)) << 32) | std::uint64_t(std::max(a, b));
   }
-  static double TriArea(const Point& a, const Point& b, const Point& c) { return 0.5 * ((b - a) ^ (c - a)).Norm(); }
+  static double TriArea(const Point& a, const Point& b, const Point& c) {
+    return 0.5 * ((b - a) ^ (c - a)).Norm();
+  }
   static Point UnitNormal(const Point& a, const Point& b, const Point& c) {
     Point n = (b - a) ^ (c - a);
     const double len = n.Norm();
@@ -461,7 +476,8 @@ private:
     if (r.removedNonManifoldFaces > 0) RebuildTopology(m);
 
     Progress(cb, 20, "Orienting coherently");
-    std::vector<std::uint8_t> flipped(m.face.size(), 0); // per face: orientation reversed an odd number of times
+    std::vector<std::uint8_t> flipped(m.face.size(),
+                                      0); // per face: orientation reversed an odd number of times
     std::vector<std::pair<Index, Index>> orientationConflicts;
     OrientCoherently(m, flipped, orientationConflicts);
 
@@ -727,7 +743,8 @@ private:
           double bestScore = -std::numeric_limits<double>::infinity();
           for (std::size_t a = 0; a < group.size(); ++a)
             for (std::size_t b = a + 1; b < group.size(); ++b) {
-              const Point na = FaceNormal(m, m.face[group[a].face]), nb = FaceNormal(m, m.face[group[b].face]);
+              const Point na = FaceNormal(m, m.face[group[a].face]),
+                          nb = FaceNormal(m, m.face[group[b].face]);
               const bool consistent = group[a].forward != group[b].forward;
               const double score = (consistent ? 2.0 : 0.0) + (consistent ? na * nb : -(na * nb));
               if (score > bestScore) {
@@ -869,7 +886,8 @@ private:
   /// Face f = (a, b, c) with edge e = ab its longest edge and c (nearly) on it. Interior: flip ab into
   /// cd with the neighbour (b, a, d): the two new faces (c, a, d) and (c, d, b) cover exactly the
   /// neighbour, so the surface does not change. Boundary: drop f when c is an interior vertex.
-  static bool FlipCap(MeshType& m, Index f, int e, double degenerateArea, std::vector<std::uint8_t>& dirty, Result& r) {
+  static bool FlipCap(MeshType& m, Index f, int e, double degenerateArea, std::vector<std::uint8_t>& dirty,
+                      Result& r) {
     FaceType& F = m.face[f];
     const Index a = VI(m, F, e), b = VI(m, F, (e + 1) % 3), c = VI(m, F, (e + 2) % 3);
     if (IsBorderEdge(F, e)) {
@@ -885,7 +903,8 @@ private:
     if (G->V(j) != &m.vert[b] || G->V((j + 1) % 3) != &m.vert[a]) return false; // not coherent
     const Index d = VI(m, *G, (j + 2) % 3);
     if (d == c || dirty[d]) return false;
-    if (FaceArea(m, *G) <= degenerateArea) return false; // neighbour degenerate too: let another edit go first
+    if (FaceArea(m, *G) <= degenerateArea)
+      return false; // neighbour degenerate too: let another edit go first
     if (EdgeExistsInStar(m, c, d)) return false;
     const Point pa = Pos(m, a), pb = Pos(m, b), pc = Pos(m, c), pd = Pos(m, d);
     if (TriArea(pc, pa, pd) <= degenerateArea || TriArea(pc, pd, pb) <= degenerateArea) return false;
@@ -905,7 +924,8 @@ private:
   /// Collapses edge e of face f onto one of its end points (which keeps its position): the boundary
   /// one if only one is on the boundary. Checked: manifold edge, link condition, no pinch of the
   /// boundary, no face of the star degenerates or turns over.
-  static bool CollapseEdge(MeshType& m, Index f, int e, double degenerateArea, std::vector<std::uint8_t>& dirty, Result& r) {
+  static bool CollapseEdge(MeshType& m, Index f, int e, double degenerateArea,
+                           std::vector<std::uint8_t>& dirty, Result& r) {
     const FaceType& F = m.face[f];
     Index u = VI(m, F, e), v = VI(m, F, (e + 1) % 3); // u is removed, v kept
     if (dirty[u] || dirty[v]) return false;
@@ -1052,7 +1072,8 @@ private:
   // ------------------------------------------------------------------------------------------------
 
   /// Face components through shared edges, numbered in order of their lowest face.
-  static std::size_t LabelComponents(const MeshType& m, std::vector<Index>& label, std::vector<std::size_t>& size) {
+  static std::size_t LabelComponents(const MeshType& m, std::vector<Index>& label,
+                                     std::vector<std::size_t>& size) {
     label.assign(m.face.size(), kNone);
     size.clear();
     std::vector<Index> stack;
@@ -1111,15 +1132,19 @@ private:
       for (Index f = 0; f < m.face.size(); ++f) {
         if (m.face[f].IsD()) continue;
         const vcg::Box3d box = Box(m, FaceTri(m, m.face[f]));
-        if (CellCount(box) > kMaxCells) big_.push_back(f);
-        else ForCells(box, [&](std::uint64_t key) { sorted_.emplace_back(key, f); });
+        if (CellCount(box) > kMaxCells)
+          big_.push_back(f);
+        else
+          ForCells(box, [&](std::uint64_t key) { sorted_.emplace_back(key, f); });
       }
       std::sort(sorted_.begin(), sorted_.end());
     }
     void Insert(const MeshType& m, Index f) {
       const vcg::Box3d box = Box(m, FaceTri(m, m.face[f]));
-      if (CellCount(box) > kMaxCells) big_.push_back(f);
-      else ForCells(box, [&](std::uint64_t key) { added_[key].push_back(f); });
+      if (CellCount(box) > kMaxCells)
+        big_.push_back(f);
+      else
+        ForCells(box, [&](std::uint64_t key) { added_[key].push_back(f); });
     }
     /// Live faces whose bounding box touches box (closed test), each once.
     void Query(const MeshType& m, const vcg::Box3d& box, std::vector<Index>& out) {
@@ -1161,7 +1186,8 @@ private:
     static constexpr double kMaxCells = 4096;
     double CellCount(const vcg::Box3d& box) const {
       double count = 1;
-      for (int a = 0; a < 3; ++a) count *= std::floor(box.max[a] / cell_) - std::floor(box.min[a] / cell_) + 1;
+      for (int a = 0; a < 3; ++a)
+        count *= std::floor(box.max[a] / cell_) - std::floor(box.min[a] / cell_) + 1;
       return count;
     }
     template <class Fn>
@@ -1175,7 +1201,8 @@ private:
       for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
         for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
           for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
-            fn((std::uint64_t(x) * 73856093u) ^ (std::uint64_t(y) * 19349663u) ^ (std::uint64_t(z) * 83492791u));
+            fn((std::uint64_t(x) * 73856093u) ^ (std::uint64_t(y) * 19349663u) ^
+               (std::uint64_t(z) * 83492791u));
     }
     double cell_;
     std::vector<std::pair<std::uint64_t, Index>> sorted_;
@@ -1256,7 +1283,8 @@ private:
       const FaceType& f = m.face[loop.faces[i]];
       if (f.IsD()) return false;
       int e = 0;
-      while (e < 3 && !(VI(m, f, e) == loop.verts[i] && VI(m, f, (e + 1) % 3) == loop.verts[(i + 1) % n])) ++e;
+      while (e < 3 && !(VI(m, f, e) == loop.verts[i] && VI(m, f, (e + 1) % 3) == loop.verts[(i + 1) % n]))
+        ++e;
       if (e == 3 || !IsBorderEdge(f, e)) return false;
     }
     return true;
@@ -1267,7 +1295,7 @@ private:
   static std::vector<Loop> SplitIntoLobes(const Loop& loop) {
     std::vector<Loop> lobes;
     std::vector<std::pair<Index, Index>> path; // (start vertex, face) of the half-edges on the stack
-    std::unordered_map<Index, std::size_t> at;  // start vertex -> position on the stack
+    std::unordered_map<Index, std::size_t> at; // start vertex -> position on the stack
     const std::size_t n = loop.verts.size();
     for (std::size_t k = 0; k < n; ++k) {
       at[loop.verts[k]] = path.size();
@@ -1294,8 +1322,8 @@ private:
   // ------------------------------------------------------------------------------------------------
 
   struct Weight {
-    double dihedral = 0;    ///< largest dihedral angle (radians) between adjacent triangles
-    double minAngle = kPi;  ///< smallest triangle angle (radians)
+    double dihedral = 0;   ///< largest dihedral angle (radians) between adjacent triangles
+    double minAngle = kPi; ///< smallest triangle angle (radians)
     double area = 0;
   };
   static bool Better(const Weight& a, const Weight& b) {
@@ -1311,8 +1339,8 @@ private:
   /// rejected by validation. False when no admissible triangulation exists.
   template <class DiagonalOk>
   static bool Triangulate(const std::vector<Point>& p, const std::vector<Point>& outer, DiagonalOk diagonalOk,
-                          const std::unordered_set<std::uint64_t>& forbidden, double minArea, double maxDihedral,
-                          std::vector<std::array<int, 3>>& tris) {
+                          const std::unordered_set<std::uint64_t>& forbidden, double minArea,
+                          double maxDihedral, std::vector<std::array<int, 3>>& tris) {
     const int n = int(p.size());
     tris.clear();
     if (n < 3) return false;
@@ -1402,7 +1430,8 @@ private:
       std::vector<std::uint8_t> ok(std::size_t(n) * n, 1);
       for (int i = 0; i < n; ++i)
         for (int j = i + 2; j < n; ++j)
-          if (!(i == 0 && j == n - 1) && EdgeExists(m, ctx, lobe.verts[i], lobe.verts[j])) ok[std::size_t(i) * n + j] = 0;
+          if (!(i == 0 && j == n - 1) && EdgeExists(m, ctx, lobe.verts[i], lobe.verts[j]))
+            ok[std::size_t(i) * n + j] = 0;
       auto diagonalOk = [&ok, n](int i, int j) { return ok[std::size_t(i) * n + j] != 0; };
       std::unordered_set<std::uint64_t> forbidden;
       std::vector<std::array<int, 3>> local;
@@ -1756,8 +1785,9 @@ private:
   /// whole open component, say) move the copy (or else the original) a little into its own fan, as
   /// vcglib's SplitNonManifoldVertex does with its moveThreshold, if that creates no intersection and
   /// turns no face over. Otherwise they stay touching (counted).
-  static void SeparateSplitCopies(MeshType& m, const std::vector<std::pair<Index, Index>>& pairs, const Params& params,
-                                  double meanEdge, double tol, int& attemptsLeft, Result& r) {
+  static void SeparateSplitCopies(MeshType& m, const std::vector<std::pair<Index, Index>>& pairs,
+                                  const Params& params, double meanEdge, double tol, int& attemptsLeft,
+                                  Result& r) {
     std::unique_ptr<FaceGrid> grid;
     std::vector<std::pair<Index, int>> starA, starB;
     for (const auto& [original, copy] : pairs) {
@@ -1849,8 +1879,10 @@ private:
       if (m.face[f].IsD()) continue;
       for (int e = 0; e < 3; ++e)
         if (IsBorderEdge(m.face[f], e) && !(visited[f] & (1u << e))) {
-          if (TraceLoop(m, f, e, visited, loop)) loops.push_back(loop);
-          else ++r.unfilledHoles;
+          if (TraceLoop(m, f, e, visited, loop))
+            loops.push_back(loop);
+          else
+            ++r.unfilledHoles;
         }
     }
     if (loops.empty()) return;
@@ -1885,7 +1917,8 @@ private:
         std::sort(seed.begin(), seed.end());
         seed.erase(std::unique(seed.begin(), seed.end()), seed.end());
         std::size_t removed = 0, added = 0;
-        if (LoopStillOpen(m, *l) && RepairRegion(m, seed, params, meanEdge, tol, *grid, attemptsLeft, removed, added)) {
+        if (LoopStillOpen(m, *l) &&
+            RepairRegion(m, seed, params, meanEdge, tol, *grid, attemptsLeft, removed, added)) {
           filled = true;
           ++r.closedHoles;
           ++r.grownHoles;
@@ -1906,8 +1939,8 @@ private:
 
   /// Parity of the crossings of the ray origin + t dir (t > 0) with the faces; ambiguous when the ray
   /// grazes an edge or a vertex (then another direction is tried).
-  static bool RayParity(const MeshType& m, const std::vector<Index>& faces, const Point& origin, const Point& dir,
-                        bool& ambiguous) {
+  static bool RayParity(const MeshType& m, const std::vector<Index>& faces, const Point& origin,
+                        const Point& dir, bool& ambiguous) {
     ambiguous = false;
     bool odd = false;
     for (Index f : faces) {
@@ -1962,7 +1995,8 @@ private:
       centroid /= double(n);
       for (Index f : faces[c]) {
         const Tri t = FaceTri(m, m.face[f]);
-        volume[c] += (Pos(m, t[0]) - centroid) * ((Pos(m, t[1]) - centroid) ^ (Pos(m, t[2]) - centroid)) / 6.0;
+        volume[c] +=
+            (Pos(m, t[0]) - centroid) * ((Pos(m, t[1]) - centroid) ^ (Pos(m, t[2]) - centroid)) / 6.0;
       }
     }
     const std::array<Point, 5> directions{Point(0.5773, 0.5774, 0.5775), Point(-0.7071, 0.4082, 0.5774),

@@ -78,7 +78,8 @@ bool ReadObjTriangles(MeshType& m, const std::string& path, std::string& error) 
         }
         corners.push_back(resolved);
       }
-      for (std::size_t k = 2; k < corners.size(); ++k) triangles.push_back({corners[0], corners[k - 1], corners[k]});
+      for (std::size_t k = 2; k < corners.size(); ++k)
+        triangles.push_back({corners[0], corners[k - 1], corners[k]});
     }
   }
   if (points.empty()) {

@@ -30,11 +30,11 @@
 namespace molremesh {
 
 struct MemoryEstimate {
-  double facesIn = 0;    ///< faces of the input
-  double verticesIn = 0; ///< vertices of the input
-  double facesOut = 0;   ///< faces the target edge length implies (0: no resampling stage)
+  double facesIn = 0;          ///< faces of the input
+  double verticesIn = 0;       ///< vertices of the input
+  double facesOut = 0;         ///< faces the target edge length implies (0: no resampling stage)
   double targetEdgeLength = 0; ///< the L they were counted for
-  double bytes = 0;      ///< predicted peak resident memory of the run
+  double bytes = 0;            ///< predicted peak resident memory of the run
 };
 
 class MemoryBudget {

@@ -117,7 +117,7 @@ struct PipelineStageRecord {
 
 struct PipelineResult {
   bool ok = true;
-  std::string message; ///< why it failed (the mesh is then the input again)
+  std::string message;           ///< why it failed (the mesh is then the input again)
   bool refusedForMemory = false; ///< the memory check refused the run (Params::memoryLimitMB)
   double targetEdgeLength = 0;
   QualityReport input;                     ///< the mesh as given

@@ -15,8 +15,8 @@
 //    manifoldness), because it is not a 2-simplex. Every other face is a "proper" face.
 //  - A face is degenerate when it is index-degenerate, has a non-finite corner, or its area is
 //    <= degenerateAreaEpsilon * (median edge length)^2. The median, not the mean: one vertex sent
-//    far away would inflate the mean enough to call every face of the mesh degenerate. Degenerate faces count as angles
-//    {0, 0, 180}, Q = 0, AR = +inf and are left out of area, volume and self-intersections.
+//    far away would inflate the mean enough to call every face of the mesh degenerate. Degenerate faces count
+//    as angles {0, 0, 180}, Q = 0, AR = +inf and are left out of area, volume and self-intersections.
 //  - Components are connected through shared edges: faces touching only at a vertex belong to
 //    different components. That vertex is a non-manifold vertex of the mesh, but each component
 //    is judged on its own: it is non-manifold only if it has a non-manifold edge or holds two or
@@ -79,41 +79,41 @@ struct QualityReport {
   std::size_t edges = 0;                ///< distinct undirected edges (of proper faces)
 
   // Triangle shape (degenerate faces included: they count as angle 0/180, Q = 0, AR = inf)
-  double qMin = 0, qAvg = 0;                   ///< Q = (6/sqrt 3) A / (p h); 1 for equilateral
-  double angleMin = 0, meanMinAngle = 0;       ///< smallest angle; mean of per-face minimal angles
-  double angleMax = 0;                         ///< largest angle
+  double qMin = 0, qAvg = 0;                      ///< Q = (6/sqrt 3) A / (p h); 1 for equilateral
+  double angleMin = 0, meanMinAngle = 0;          ///< smallest angle; mean of per-face minimal angles
+  double angleMax = 0;                            ///< largest angle
   double aspectRatioMax = 0, aspectRatioMean = 0; ///< AR = abc / (8 (s-a)(s-b)(s-c)); 1 for equilateral
-  double aspectRatioMeanNonDegenerate = 0;     ///< mean AR over the non-degenerate faces only (finite)
-  std::size_t smallAngleFaces = 0;             ///< faces with an angle < params.smallAngle
-  std::size_t obtuseFaces = 0;                 ///< faces with max angle >= params.obtuseAngle
-  std::size_t largeAngleFaces = 0;             ///< faces with an angle > params.largeAngle
+  double aspectRatioMeanNonDegenerate = 0;        ///< mean AR over the non-degenerate faces only (finite)
+  std::size_t smallAngleFaces = 0;                ///< faces with an angle < params.smallAngle
+  std::size_t obtuseFaces = 0;                    ///< faces with max angle >= params.obtuseAngle
+  std::size_t largeAngleFaces = 0;                ///< faces with an angle > params.largeAngle
   double smallAnglePercent = 0, obtusePercent = 0, largeAnglePercent = 0;
 
   // Valence of interior vertices (not on a boundary or non-manifold edge)
   std::size_t interiorVertices = 0;
-  std::size_t regularVertices = 0;         ///< interior with valence 5, 6 or 7
-  double v567Percent = 0;                  ///< 100 * regular / interior (100 when there is none)
+  std::size_t regularVertices = 0;             ///< interior with valence 5, 6 or 7
+  double v567Percent = 0;                      ///< 100 * regular / interior (100 when there is none)
   std::map<int, std::size_t> valenceHistogram; ///< valence -> number of interior vertices
 
   // Geometry
-  double area = 0;   ///< total surface area
-  double volume = 0; ///< signed enclosed volume (divergence theorem); meaningful when closed
+  double area = 0;             ///< total surface area
+  double volume = 0;           ///< signed enclosed volume (divergence theorem); meaningful when closed
   double meanEdgeLength = 0;   ///< mean length of the distinct edges with finite end points
   double medianEdgeLength = 0; ///< median of the same lengths (the scale of degenerateAreaEpsilon)
 
   // Topology and validity
-  int euler = 0;                      ///< V - E + F over referenced vertices
-  int genus = -1;                     ///< sum of component genera; -1 when any component is non-manifold
-  std::size_t components = 0;         ///< connected components (through shared edges)
+  int euler = 0;              ///< V - E + F over referenced vertices
+  int genus = -1;             ///< sum of component genera; -1 when any component is non-manifold
+  std::size_t components = 0; ///< connected components (through shared edges)
   std::vector<ComponentInfo> componentInfo; ///< one entry per component, largest first
-  std::size_t boundaryEdges = 0;      ///< edges with exactly one face
-  std::size_t boundaryLoops = 0;      ///< closed boundary polylines (manifold parts only)
-  std::size_t nonManifoldEdges = 0;   ///< edges with more than two faces
-  std::size_t nonManifoldVertices = 0;///< vertices whose face fan is not one edge-connected fan
-  std::size_t degenerateFaces = 0;    ///< repeated vertex index or (near) zero area
-  std::size_t selfIntersectingPairs = 0; ///< pairs of faces sharing no vertex that intersect
-  std::size_t adjacentOverlapPairs = 0;  ///< pairs sharing exactly one vertex that meet elsewhere too
-  std::size_t selfIntersectingFaces = 0; ///< faces in at least one of the two kinds of pairs above
+  std::size_t boundaryEdges = 0;            ///< edges with exactly one face
+  std::size_t boundaryLoops = 0;            ///< closed boundary polylines (manifold parts only)
+  std::size_t nonManifoldEdges = 0;         ///< edges with more than two faces
+  std::size_t nonManifoldVertices = 0;      ///< vertices whose face fan is not one edge-connected fan
+  std::size_t degenerateFaces = 0;          ///< repeated vertex index or (near) zero area
+  std::size_t selfIntersectingPairs = 0;    ///< pairs of faces sharing no vertex that intersect
+  std::size_t adjacentOverlapPairs = 0;     ///< pairs sharing exactly one vertex that meet elsewhere too
+  std::size_t selfIntersectingFaces = 0;    ///< faces in at least one of the two kinds of pairs above
   bool selfIntersectionsComputed = false;
 
   bool isTwoManifold() const { return nonManifoldEdges == 0 && nonManifoldVertices == 0; }
@@ -134,12 +134,12 @@ template <class MeshType>
 class MeshQuality {
 public:
   struct Params {
-    double smallAngle = 30.0;            ///< degrees; faces with an angle below it are "small"
-    double obtuseAngle = 90.0;           ///< degrees; faces whose max angle is >= it are obtuse
-    double largeAngle = 120.0;           ///< degrees; faces with an angle above it are "large"
-    bool computeSelfIntersections = true;///< the only super-linear part; grid accelerated
-    double degenerateAreaEpsilon = 1e-12;///< relative to squared median edge length
-    int threads = 0;                     ///< worker threads; 0 = all cores (the figures do not depend on it)
+    double smallAngle = 30.0;             ///< degrees; faces with an angle below it are "small"
+    double obtuseAngle = 90.0;            ///< degrees; faces whose max angle is >= it are obtuse
+    double largeAngle = 120.0;            ///< degrees; faces with an angle above it are "large"
+    bool computeSelfIntersections = true; ///< the only super-linear part; grid accelerated
+    double degenerateAreaEpsilon = 1e-12; ///< relative to squared median edge length
+    int threads = 0;                      ///< worker threads; 0 = all cores (the figures do not depend on it)
   };
 
   /// Measures m. m is not modified; deleted elements are skipped.
@@ -166,8 +166,12 @@ public:
 // Implementation
 // ------------------------------------------------------------------------------------------------
 
-inline double TriangleAngles::min() const { return std::min({degrees[0], degrees[1], degrees[2]}); }
-inline double TriangleAngles::max() const { return std::max({degrees[0], degrees[1], degrees[2]}); }
+inline double TriangleAngles::min() const {
+  return std::min({degrees[0], degrees[1], degrees[2]});
+}
+inline double TriangleAngles::max() const {
+  return std::max({degrees[0], degrees[1], degrees[2]});
+}
 
 namespace quality_detail {
 
@@ -196,8 +200,10 @@ public:
     a = Find(a);
     b = Find(b);
     if (a == b) return;
-    if (a < b) parent_[b] = a;
-    else parent_[a] = b;
+    if (a < b)
+      parent_[b] = a;
+    else
+      parent_[a] = b;
   }
 
 private:
@@ -220,7 +226,7 @@ inline TriangleShape ShapeOf(const Point& p0, const Point& p1, const Point& p2, 
   TriangleShape s;
   if (!IsFinite(p0) || !IsFinite(p1) || !IsFinite(p2)) return s;
   const std::array<Point, 3> p{p0, p1, p2};
-  std::array<double, 3> len{};  // len[i] = edge opposite corner i
+  std::array<double, 3> len{}; // len[i] = edge opposite corner i
   for (int i = 0; i < 3; ++i) len[i] = (p[(i + 2) % 3] - p[(i + 1) % 3]).Norm();
   s.area = 0.5 * ((p1 - p0) ^ (p2 - p0)).Norm();
   if (!(s.area > degenerateArea) || !std::isfinite(s.area)) return s;
@@ -296,7 +302,9 @@ inline bool SegmentsMeet2D(const Point& p, const Point& q, const Point& a, const
   return true;
 }
 
-inline double MaxAbs(const Point& p) { return std::max({std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])}); }
+inline double MaxAbs(const Point& p) {
+  return std::max({std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
+}
 
 /// Signed distance of x from the plane of t, snapped to 0 when it is within rounding noise, so
 /// that exactly coplanar inputs (flat patches) take the 2D branch. It is measured from the corner
@@ -362,15 +370,15 @@ inline bool SharedCornerOverlap(const PlanarTriangle& a, int ca, const PlanarTri
 
 /// Edge table and incidence relations of the proper faces, in compressed-row form.
 struct Topology {
-  std::size_t vertexCount = 0;               ///< size of m.vert
-  std::vector<std::array<Index, 3>> faces;   ///< live faces, in m.face order (compact numbering)
-  std::vector<bool> proper;                  ///< three distinct valid vertex indices
-  std::vector<std::uint64_t> edgeKeys;       ///< (min << 32 | max), sorted, one per distinct edge
+  std::size_t vertexCount = 0;                 ///< size of m.vert
+  std::vector<std::array<Index, 3>> faces;     ///< live faces, in m.face order (compact numbering)
+  std::vector<bool> proper;                    ///< three distinct valid vertex indices
+  std::vector<std::uint64_t> edgeKeys;         ///< (min << 32 | max), sorted, one per distinct edge
   std::vector<Index> edgeFaceStart, edgeFaces; ///< faces of edge e: [start[e], start[e+1])
   std::vector<Index> vertEdgeStart, vertEdges; ///< edges at vertex v
   std::vector<Index> vertFaceStart, vertFaces; ///< proper faces at vertex v, ascending
-  std::vector<bool> onNonManifoldEdge;       ///< per vertex
-  std::vector<bool> onBorder;                ///< per vertex: boundary or non-manifold edge
+  std::vector<bool> onNonManifoldEdge;         ///< per vertex
+  std::vector<bool> onBorder;                  ///< per vertex: boundary or non-manifold edge
 
   Index EdgeV0(std::size_t e) const { return Index(edgeKeys[e] >> 32); }
   Index EdgeV1(std::size_t e) const { return Index(edgeKeys[e] & 0xffffffffu); }
@@ -569,8 +577,8 @@ inline std::vector<IntersectingPair> FindSelfIntersections(const std::vector<std
   vcg::Box3d all;
   for (const vcg::Box3d& box : boxes) all.Add(box);
 
-  constexpr double kMaxSpan = 512;          // cells a hashed face may cover
-  constexpr int kAxisBits = 21;             // 3 * 21 bits of cell key
+  constexpr double kMaxSpan = 512; // cells a hashed face may cover
+  constexpr int kAxisBits = 21;    // 3 * 21 bits of cell key
   constexpr std::int64_t kAxisMask = (std::int64_t(1) << kAxisBits) - 1;
   const double maxExtent = std::max({all.DimX(), all.DimY(), all.DimZ()});
   double cell = 2.0 * medianEdge;
@@ -757,7 +765,8 @@ TriangleAngles MeshQuality<MeshType>::FaceAngles(const typename MeshType::FaceTy
   }
   double longest = 0;
   for (int i = 0; i < 3; ++i) longest = std::max(longest, (p[(i + 1) % 3] - p[i]).Norm());
-  const auto shape = quality_detail::ShapeOf(p[0], p[1], p[2], Params().degenerateAreaEpsilon * longest * longest);
+  const auto shape =
+      quality_detail::ShapeOf(p[0], p[1], p[2], Params().degenerateAreaEpsilon * longest * longest);
   result.degrees = shape.angles;
   return result;
 }
@@ -835,7 +844,8 @@ QualityReport MeshQuality<MeshType>::Compute(QualityCapture capture, const Param
     if (finite[a] && finite[b]) edgeLengths.push_back((points[a] - points[b]).Norm());
   }
   if (!edgeLengths.empty()) {
-    r.meanEdgeLength = std::accumulate(edgeLengths.begin(), edgeLengths.end(), 0.0) / double(edgeLengths.size());
+    r.meanEdgeLength =
+        std::accumulate(edgeLengths.begin(), edgeLengths.end(), 0.0) / double(edgeLengths.size());
     const auto middle = edgeLengths.begin() + std::ptrdiff_t(edgeLengths.size() / 2);
     std::nth_element(edgeLengths.begin(), middle, edgeLengths.end());
     r.medianEdgeLength = *middle;
@@ -995,8 +1005,10 @@ QualityReport MeshQuality<MeshType>::Compute(QualityCapture capture, const Param
     info.closed = info.manifold && info.boundaryEdges == 0;
     const int twiceGenus = 2 - info.euler - int(info.boundaryLoops);
     info.genus = (info.manifold && twiceGenus >= 0 && twiceGenus % 2 == 0) ? twiceGenus / 2 : -1;
-    if (info.genus < 0) r.genus = -1;
-    else if (r.genus >= 0) r.genus += info.genus;
+    if (info.genus < 0)
+      r.genus = -1;
+    else if (r.genus >= 0)
+      r.genus += info.genus;
   }
   std::stable_sort(comps.begin(), comps.end(),
                    [](const ComponentInfo& a, const ComponentInfo& b) { return a.faces > b.faces; });
@@ -1011,7 +1023,8 @@ QualityReport MeshQuality<MeshType>::Compute(QualityCapture capture, const Param
     ++r.valenceHistogram[valence];
     if (valence >= 5 && valence <= 7) ++r.regularVertices;
   }
-  r.v567Percent = r.interiorVertices > 0 ? 100.0 * double(r.regularVertices) / double(r.interiorVertices) : 100.0;
+  r.v567Percent =
+      r.interiorVertices > 0 ? 100.0 * double(r.regularVertices) / double(r.interiorVertices) : 100.0;
 
   // --- Triangle shape, area, volume -----------------------------------------------------------
   Point centroid(0, 0, 0);

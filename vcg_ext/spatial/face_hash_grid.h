@@ -297,10 +297,10 @@ private:
   static constexpr std::uint8_t kNoSlots = 0xff;
 
   struct FaceEntry {
-    FloatBox box;                    ///< rounded outward
-    std::array<int, 6> range{};      ///< cell range: lo x y z, hi x y z
+    FloatBox box;               ///< rounded outward
+    std::array<int, 6> range{}; ///< cell range: lo x y z, hi x y z
     std::array<std::uint32_t, kInlineSlots> cellSlots{};
-    std::uint8_t slotCount = 0;      ///< kNoSlots when the range has more cells than kInlineSlots
+    std::uint8_t slotCount = 0; ///< kNoSlots when the range has more cells than kInlineSlots
     bool in = false;
   };
 

@@ -231,94 +231,99 @@ void TrianglePairScan::FindPairs(int threads, Intersect&& intersect,
   for (auto& v : threadPairs_) v.clear();
   if (cells_.empty()) return;
   const std::uint64_t ny = dims_[1], nz = dims_[2];
-  ParallelFor(cells_.size(), nThreads, [&](std::size_t begin, std::size_t end, int t) {
-    auto& pairs = threadPairs_[t];
-    const float *lx = sortedLo_[0].data(), *ly = sortedLo_[1].data(), *lz = sortedLo_[2].data();
-    const float *hx = sortedHi_[0].data(), *hy = sortedHi_[1].data(), *hz = sortedHi_[2].data();
-    const std::int32_t* moved = sortedMoved_.data();
-    const std::uint32_t *v0 = sortedIds_[0].data(), *v1 = sortedIds_[1].data(), *v2 = sortedIds_[2].data();
-    // Triangle a against the run [b0, b1): the tests of a block of the run (boxes touching, one
-    // of the two moved, and with skipShared no common vertex) go into a mask in one branch-free
-    // loop over 32-bit lanes, so it vectorizes; then the few hits get the exact test.
-    auto testRun = [&](std::uint32_t a, std::uint32_t b0, std::uint32_t b1, auto skipShared) {
-      constexpr std::uint32_t kBlock = 32;
-      const float alx = lx[a], aly = ly[a], alz = lz[a], ahx = hx[a], ahy = hy[a], ahz = hz[a];
-      const std::int32_t aMoved = moved[a];
-      const std::uint32_t a0 = v0[a], a1 = v1[a], a2 = v2[a];
-      std::array<std::int32_t, kBlock> hit;
-      for (std::uint32_t start = b0; start < b1; start += kBlock) {
-        const std::uint32_t n = std::min(kBlock, b1 - start);
-        for (std::uint32_t j = 0; j < n; ++j) {
-          const std::uint32_t b = start + j;
-          std::int32_t pass = -std::int32_t(alx <= hx[b]);
-          pass &= -std::int32_t(lx[b] <= ahx);
-          pass &= -std::int32_t(aly <= hy[b]);
-          pass &= -std::int32_t(ly[b] <= ahy);
-          pass &= -std::int32_t(alz <= hz[b]);
-          pass &= -std::int32_t(lz[b] <= ahz);
-          pass &= aMoved | moved[b];
-          if constexpr (decltype(skipShared)::value) {
-            const std::uint32_t b0v = v0[b], b1v = v1[b], b2v = v2[b];
-            const std::int32_t shared =
-                std::int32_t(a0 == b0v) | std::int32_t(a0 == b1v) | std::int32_t(a0 == b2v) |
-                std::int32_t(a1 == b0v) | std::int32_t(a1 == b1v) | std::int32_t(a1 == b2v) |
-                std::int32_t(a2 == b0v) | std::int32_t(a2 == b1v) | std::int32_t(a2 == b2v);
-            pass &= shared - 1;
+  ParallelFor(
+      cells_.size(), nThreads,
+      [&](std::size_t begin, std::size_t end, int t) {
+        auto& pairs = threadPairs_[t];
+        const float *lx = sortedLo_[0].data(), *ly = sortedLo_[1].data(), *lz = sortedLo_[2].data();
+        const float *hx = sortedHi_[0].data(), *hy = sortedHi_[1].data(), *hz = sortedHi_[2].data();
+        const std::int32_t* moved = sortedMoved_.data();
+        const std::uint32_t *v0 = sortedIds_[0].data(), *v1 = sortedIds_[1].data(),
+                            *v2 = sortedIds_[2].data();
+        // Triangle a against the run [b0, b1): the tests of a block of the run (boxes touching, one
+        // of the two moved, and with skipShared no common vertex) go into a mask in one branch-free
+        // loop over 32-bit lanes, so it vectorizes; then the few hits get the exact test.
+        auto testRun = [&](std::uint32_t a, std::uint32_t b0, std::uint32_t b1, auto skipShared) {
+          constexpr std::uint32_t kBlock = 32;
+          const float alx = lx[a], aly = ly[a], alz = lz[a], ahx = hx[a], ahy = hy[a], ahz = hz[a];
+          const std::int32_t aMoved = moved[a];
+          const std::uint32_t a0 = v0[a], a1 = v1[a], a2 = v2[a];
+          std::array<std::int32_t, kBlock> hit;
+          for (std::uint32_t start = b0; start < b1; start += kBlock) {
+            const std::uint32_t n = std::min(kBlock, b1 - start);
+            for (std::uint32_t j = 0; j < n; ++j) {
+              const std::uint32_t b = start + j;
+              std::int32_t pass = -std::int32_t(alx <= hx[b]);
+              pass &= -std::int32_t(lx[b] <= ahx);
+              pass &= -std::int32_t(aly <= hy[b]);
+              pass &= -std::int32_t(ly[b] <= ahy);
+              pass &= -std::int32_t(alz <= hz[b]);
+              pass &= -std::int32_t(lz[b] <= ahz);
+              pass &= aMoved | moved[b];
+              if constexpr (decltype(skipShared)::value) {
+                const std::uint32_t b0v = v0[b], b1v = v1[b], b2v = v2[b];
+                const std::int32_t shared =
+                    std::int32_t(a0 == b0v) | std::int32_t(a0 == b1v) | std::int32_t(a0 == b2v) |
+                    std::int32_t(a1 == b0v) | std::int32_t(a1 == b1v) | std::int32_t(a1 == b2v) |
+                    std::int32_t(a2 == b0v) | std::int32_t(a2 == b1v) | std::int32_t(a2 == b2v);
+                pass &= shared - 1;
+              }
+              hit[j] = pass;
+            }
+            for (std::uint32_t j = 0; j < n; ++j) {
+              if (hit[j] == 0) continue;
+              const std::uint32_t i = order_[a], k = order_[start + j];
+              if (intersect(i, k)) pairs.emplace_back(std::min(i, k), std::max(i, k));
+            }
           }
-          hit[j] = pass;
-        }
-        for (std::uint32_t j = 0; j < n; ++j) {
-          if (hit[j] == 0) continue;
-          const std::uint32_t i = order_[a], k = order_[start + j];
-          if (intersect(i, k)) pairs.emplace_back(std::min(i, k), std::max(i, k));
-        }
-      }
-    };
-    // Each pair of neighbouring cells is visited once, from the lower one in (z, y, x) order: a
-    // cell meets itself and the next cell of its row, and the cells x - 1 .. x + 1 of the rows
-    // (y + 1, z), (y - 1, z + 1), (y, z + 1) and (y + 1, z + 1). Cells are handled in row order,
-    // so each neighbouring row is walked with a cursor that only moves forward.
-    std::array<std::uint32_t, 4> cursor{}, last{};
-    std::uint64_t currentRow = kEmpty;
-    auto visit = [&](auto skipShared) {
-      for (std::size_t c = begin; c < end; ++c) {
-        const Cell& cell = cells_[c];
-        if (cell.row != currentRow) {
-          currentRow = cell.row;
-          const std::uint64_t y = cell.row % ny, z = cell.row / ny;
-          const std::array<std::array<std::int64_t, 2>, 4> near{{{std::int64_t(y) + 1, std::int64_t(z)},
-                                                                 {std::int64_t(y) - 1, std::int64_t(z) + 1},
-                                                                 {std::int64_t(y), std::int64_t(z) + 1},
-                                                                 {std::int64_t(y) + 1, std::int64_t(z) + 1}}};
-          for (int r = 0; r < 4; ++r) {
-            cursor[r] = last[r] = 0;
-            const auto [ry, rz] = near[r];
-            if (ry < 0 || ry >= std::int64_t(ny) || rz >= std::int64_t(nz)) continue;
-            const int found = FindRow(std::uint64_t(ry) + ny * std::uint64_t(rz));
-            if (found < 0) continue;
-            cursor[r] = rows_[found].first;
-            last[r] = rows_[found].last;
+        };
+        // Each pair of neighbouring cells is visited once, from the lower one in (z, y, x) order: a
+        // cell meets itself and the next cell of its row, and the cells x - 1 .. x + 1 of the rows
+        // (y + 1, z), (y - 1, z + 1), (y, z + 1) and (y + 1, z + 1). Cells are handled in row order,
+        // so each neighbouring row is walked with a cursor that only moves forward.
+        std::array<std::uint32_t, 4> cursor{}, last{};
+        std::uint64_t currentRow = kEmpty;
+        auto visit = [&](auto skipShared) {
+          for (std::size_t c = begin; c < end; ++c) {
+            const Cell& cell = cells_[c];
+            if (cell.row != currentRow) {
+              currentRow = cell.row;
+              const std::uint64_t y = cell.row % ny, z = cell.row / ny;
+              const std::array<std::array<std::int64_t, 2>, 4> near{
+                  {{std::int64_t(y) + 1, std::int64_t(z)},
+                   {std::int64_t(y) - 1, std::int64_t(z) + 1},
+                   {std::int64_t(y), std::int64_t(z) + 1},
+                   {std::int64_t(y) + 1, std::int64_t(z) + 1}}};
+              for (int r = 0; r < 4; ++r) {
+                cursor[r] = last[r] = 0;
+                const auto [ry, rz] = near[r];
+                if (ry < 0 || ry >= std::int64_t(ny) || rz >= std::int64_t(nz)) continue;
+                const int found = FindRow(std::uint64_t(ry) + ny * std::uint64_t(rz));
+                if (found < 0) continue;
+                cursor[r] = rows_[found].first;
+                last[r] = rows_[found].last;
+              }
+            }
+            std::uint32_t ownEnd = cell.end;
+            if (c + 1 < cells_.size() && cells_[c + 1].row == cell.row && cells_[c + 1].x == cell.x + 1)
+              ownEnd = cells_[c + 1].end;
+            for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, a + 1, ownEnd, skipShared);
+            for (int r = 0; r < 4; ++r) {
+              while (cursor[r] < last[r] && std::uint64_t(cells_[cursor[r]].x) + 1 < cell.x) ++cursor[r];
+              std::uint32_t stop = cursor[r];
+              while (stop < last[r] && cells_[stop].x <= std::uint64_t(cell.x) + 1) ++stop;
+              if (stop == cursor[r]) continue;
+              const std::uint32_t runBegin = cells_[cursor[r]].begin, runEnd = cells_[stop - 1].end;
+              for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, runBegin, runEnd, skipShared);
+            }
           }
-        }
-        std::uint32_t ownEnd = cell.end;
-        if (c + 1 < cells_.size() && cells_[c + 1].row == cell.row && cells_[c + 1].x == cell.x + 1)
-          ownEnd = cells_[c + 1].end;
-        for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, a + 1, ownEnd, skipShared);
-        for (int r = 0; r < 4; ++r) {
-          while (cursor[r] < last[r] && std::uint64_t(cells_[cursor[r]].x) + 1 < cell.x) ++cursor[r];
-          std::uint32_t stop = cursor[r];
-          while (stop < last[r] && cells_[stop].x <= std::uint64_t(cell.x) + 1) ++stop;
-          if (stop == cursor[r]) continue;
-          const std::uint32_t runBegin = cells_[cursor[r]].begin, runEnd = cells_[stop - 1].end;
-          for (std::uint32_t a = cell.begin; a < cell.end; ++a) testRun(a, runBegin, runEnd, skipShared);
-        }
-      }
-    };
-    if (skipSharedVertex)
-      visit(std::true_type());
-    else
-      visit(std::false_type());
-  }, 64);
+        };
+        if (skipSharedVertex)
+          visit(std::true_type());
+        else
+          visit(std::false_type());
+      },
+      64);
   for (const auto& v : threadPairs_) out.insert(out.end(), v.begin(), v.end());
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());

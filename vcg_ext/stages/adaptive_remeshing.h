@@ -93,14 +93,14 @@ namespace molremesh {
 
 /// What one RAR run did (summed over patches by PatchwiseRemeshing).
 struct AdaptiveRemeshingStats {
-  std::size_t splits = 0, collapses = 0, flips = 0;    ///< applied by the split / collapse / flip passes
-  std::size_t movesApplied = 0, movesRejected = 0;     ///< tangential relaxation
+  std::size_t splits = 0, collapses = 0, flips = 0; ///< applied by the split / collapse / flip passes
+  std::size_t movesApplied = 0, movesRejected = 0;  ///< tangential relaxation
   std::size_t repairMoves = 0, repairFlips = 0, repairCollapses = 0; ///< repair pass (collapses:
                                                                      ///< needles and low-valence vertices)
-  std::size_t snapMoves = 0;                           ///< vertices moved onto far input vertices (Finalize)
-  std::size_t refused = 0;                             ///< refused local operations, all reasons
-  double volumeOffset = 0;                             ///< largest |normal offset| of RestoreVolume, in units of L0
-  int iterations = 0;                                  ///< iterations done
+  std::size_t snapMoves = 0; ///< vertices moved onto far input vertices (Finalize)
+  std::size_t refused = 0;   ///< refused local operations, all reasons
+  double volumeOffset = 0;   ///< largest |normal offset| of RestoreVolume, in units of L0
+  int iterations = 0;        ///< iterations done
   double secondsSplit = 0, secondsCollapse = 0, secondsFlip = 0, secondsRelax = 0, secondsRepair = 0;
 
   void Add(const AdaptiveRemeshingStats& o) {
@@ -190,45 +190,46 @@ public:
   using PositionFilter = std::function<bool(const Point&)>;
 
   struct Params {
-    int iterations = 5;                  ///< split / collapse / flip / relax iterations
-    double targetEdgeLength = 0;         ///< L0, the base length; 0 = the mesh's mean edge length
-    double approximationTolerance = 0.05;///< eps / L0: allowed sagitta of an edge over the curved surface
-    double minLengthFactor = 0.6;        ///< L(x) >= this x L0
-    double maxLengthFactor = 1.0;        ///< L(x) <= this x L0
-    int sizingSmoothingPasses = 2;       ///< averaging passes of L over each vertex and its one-ring
-    double splitFactor = 4.0 / 3.0;      ///< split edges longer than this x L(edge)
-    double collapseFactor = 4.0 / 5.0;   ///< collapse edges shorter than this x L(edge)
-    int maxSplitPasses = 4;              ///< split passes per iteration (new edges may still be long)
-    int maxFlipPasses = 3;               ///< valence flip passes per iteration
-    int relaxationSteps = 1;             ///< tangential relaxation rounds per iteration
-    double minMoveFactor = 0.05;         ///< relaxation moves shorter than this x L0 are skipped (converged)
-    int repairPasses = 3;                ///< repair passes after the iterations (0 = off)
-    double repairMinAngleDeg = 40.0;     ///< repair triangles with a smaller angle ...
-    double repairMinQuality = 0.75;      ///< ... or a smaller quality Q
-    bool preserveVolume = true;          ///< offset closed components along their normals to the input's volume
-    double maxVolumeOffset = 0.05;       ///< bound on that offset, in units of L0
-    double volumeTolerance = 1e-4;       ///< components whose volume is off by less (relative) are left alone
-    double snapTolerance = 0.1;          ///< Finalize: input vertices farther than this x L0 from the result (the
-                                         ///< tips of cusps and spikes that chords cut off) get the nearest free
-                                         ///< corner of the closest face moved onto them (0 = off)
-    double snapLooseTolerance = 0.3;     ///< input vertices farther than this x L0 may be snapped with snapLooseGuards
-    double snapMaxMove = 1.0;            ///< such a move is at most this x L0 long
-    int snapRounds = 3;                  ///< rounds of snapping at most (each measures the distances anew;
-                                         ///< they stop when they stall), then one round of partial moves
-    double snapPartialShare = 0.5;       ///< partial moves only toward input vertices at least this share
-                                         ///< of the farthest one's distance away (> 1: none)
-    LocalOpsGuards snapGuards = RarDefaultSnapGuards(); ///< guards of the snapping moves
+    int iterations = 5;                   ///< split / collapse / flip / relax iterations
+    double targetEdgeLength = 0;          ///< L0, the base length; 0 = the mesh's mean edge length
+    double approximationTolerance = 0.05; ///< eps / L0: allowed sagitta of an edge over the curved surface
+    double minLengthFactor = 0.6;         ///< L(x) >= this x L0
+    double maxLengthFactor = 1.0;         ///< L(x) <= this x L0
+    int sizingSmoothingPasses = 2;        ///< averaging passes of L over each vertex and its one-ring
+    double splitFactor = 4.0 / 3.0;       ///< split edges longer than this x L(edge)
+    double collapseFactor = 4.0 / 5.0;    ///< collapse edges shorter than this x L(edge)
+    int maxSplitPasses = 4;               ///< split passes per iteration (new edges may still be long)
+    int maxFlipPasses = 3;                ///< valence flip passes per iteration
+    int relaxationSteps = 1;              ///< tangential relaxation rounds per iteration
+    double minMoveFactor = 0.05;          ///< relaxation moves shorter than this x L0 are skipped (converged)
+    int repairPasses = 3;                 ///< repair passes after the iterations (0 = off)
+    double repairMinAngleDeg = 40.0;      ///< repair triangles with a smaller angle ...
+    double repairMinQuality = 0.75;       ///< ... or a smaller quality Q
+    bool preserveVolume = true;    ///< offset closed components along their normals to the input's volume
+    double maxVolumeOffset = 0.05; ///< bound on that offset, in units of L0
+    double volumeTolerance = 1e-4; ///< components whose volume is off by less (relative) are left alone
+    double snapTolerance = 0.1;    ///< Finalize: input vertices farther than this x L0 from the result (the
+                                   ///< tips of cusps and spikes that chords cut off) get the nearest free
+                                   ///< corner of the closest face moved onto them (0 = off)
+    double snapLooseTolerance =
+        0.3;                  ///< input vertices farther than this x L0 may be snapped with snapLooseGuards
+    double snapMaxMove = 1.0; ///< such a move is at most this x L0 long
+    int snapRounds = 3;       ///< rounds of snapping at most (each measures the distances anew;
+                              ///< they stop when they stall), then one round of partial moves
+    double snapPartialShare = 0.5; ///< partial moves only toward input vertices at least this share
+                                   ///< of the farthest one's distance away (> 1: none)
+    LocalOpsGuards snapGuards = RarDefaultSnapGuards();           ///< guards of the snapping moves
     LocalOpsGuards snapLooseGuards = RarDefaultSnapLooseGuards(); ///< second try, beyond snapLooseTolerance
-    LocalOpsGuards guards = RarDefaultGuards();           ///< collapses, flips, relaxation, repair
-    LocalOpsGuards splitGuards = RarDefaultSplitGuards(); ///< splits
-    LocalOpsGuards repairGuards = RarDefaultRepairGuards(); ///< collapses of needles in the repair pass
-    int threads = 0;                     ///< worker threads; 0 = all cores (the result does not depend on it)
+    LocalOpsGuards guards = RarDefaultGuards();                   ///< collapses, flips, relaxation, repair
+    LocalOpsGuards splitGuards = RarDefaultSplitGuards();         ///< splits
+    LocalOpsGuards repairGuards = RarDefaultRepairGuards();       ///< collapses of needles in the repair pass
+    int threads = 0; ///< worker threads; 0 = all cores (the result does not depend on it)
   };
 
   struct Result {
     bool ok = false;
-    std::string message;                 ///< why it failed, or a one-line summary
-    double targetEdgeLength = 0;         ///< L0 used
+    std::string message;                                 ///< why it failed, or a one-line summary
+    double targetEdgeLength = 0;                         ///< L0 used
     double minSizing = 0, maxSizing = 0, meanSizing = 0; ///< the sizing field at the start
     std::size_t verticesIn = 0, facesIn = 0, verticesOut = 0, facesOut = 0;
     AdaptiveRemeshingStats stats;
@@ -256,13 +257,15 @@ public:
   /// Init-ed, with its locks set. sizing holds L per vertex index and grows with the mesh.
   /// allowed, when not empty, restricts where vertices are created or moved to. threads only
   /// affects speed.
-  static AdaptiveRemeshingStats Remesh(Ops& ops, std::vector<double>& sizing, const Params& params, int iterations,
-                                       int threads, const PositionFilter& allowed = PositionFilter());
+  static AdaptiveRemeshingStats Remesh(Ops& ops, std::vector<double>& sizing, const Params& params,
+                                       int iterations, int threads,
+                                       const PositionFilter& allowed = PositionFilter());
 
   /// The end of a RAR run on the whole mesh: RestoreVolume (when params.preserveVolume), then the
   /// repair passes once more (the normal offsets change the shape of triangles on sharp creases).
   /// Every vertex is unlocked first. Returns the repair counts and the volume offset.
-  static AdaptiveRemeshingStats Finalize(Ops& ops, std::vector<double>& sizing, const Params& params, int threads);
+  static AdaptiveRemeshingStats Finalize(Ops& ops, std::vector<double>& sizing, const Params& params,
+                                         int threads);
 
   /// Offsets every closed component of the mesh held by ops along its vertex normals so that it
   /// encloses the volume of the reference component it lies on (see the file comment); no vertex
@@ -280,7 +283,8 @@ public:
                                          std::vector<std::uint8_t>& snapped);
 
   /// Smallest angle of triangle (a, b, c) in degrees and its quality Q (see the file comment).
-  static void TriangleShape(const Point& a, const Point& b, const Point& c, double& minAngleDeg, double& quality);
+  static void TriangleShape(const Point& a, const Point& b, const Point& c, double& minAngleDeg,
+                            double& quality);
 
 private:
   class Session;
@@ -309,16 +313,19 @@ inline double Seconds(std::chrono::steady_clock::time_point since) {
 } // namespace rar_detail
 
 template <class MeshType>
-void AdaptiveRemeshing<MeshType>::TriangleShape(const Point& a, const Point& b, const Point& c, double& minAngleDeg,
-                                                double& quality) {
+void AdaptiveRemeshing<MeshType>::TriangleShape(const Point& a, const Point& b, const Point& c,
+                                                double& minAngleDeg, double& quality) {
   const double la = (b - c).Norm(), lb = (c - a).Norm(), lc = (a - b).Norm();
   const double area = 0.5 * ((b - a) ^ (c - a)).Norm();
   const double s = 0.5 * (la + lb + lc), h = std::max({la, lb, lc});
   quality = s > 0 && h > 0 ? (6.0 / std::sqrt(3.0)) * area / (s * h) : 0.0;
   // The smallest angle faces the shortest edge.
-  if (la <= lb && la <= lc) minAngleDeg = rar_detail::AngleAt(a, b, c);
-  else if (lb <= lc) minAngleDeg = rar_detail::AngleAt(b, c, a);
-  else minAngleDeg = rar_detail::AngleAt(c, a, b);
+  if (la <= lb && la <= lc)
+    minAngleDeg = rar_detail::AngleAt(a, b, c);
+  else if (lb <= lc)
+    minAngleDeg = rar_detail::AngleAt(b, c, a);
+  else
+    minAngleDeg = rar_detail::AngleAt(c, a, b);
 }
 
 template <class MeshType>
@@ -365,7 +372,8 @@ double AdaptiveRemeshing<MeshType>::MaxAbsCurvature(const VertexType& v) {
   }
   // Solve the 3x3 normal equations (Cramer); fall back to the largest edge curvature.
   auto det3 = [](const double A[3][3]) {
-    return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) - A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+    return A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+           A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
            A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
   };
   const double det = det3(M);
@@ -384,8 +392,8 @@ double AdaptiveRemeshing<MeshType>::MaxAbsCurvature(const VertexType& v) {
 }
 
 template <class MeshType>
-std::vector<double> AdaptiveRemeshing<MeshType>::ComputeSizing(const MeshType& m, double L0, const Params& params,
-                                                               int threads) {
+std::vector<double> AdaptiveRemeshing<MeshType>::ComputeSizing(const MeshType& m, double L0,
+                                                               const Params& params, int threads) {
   const std::size_t n = m.vert.size();
   std::vector<double> sizing(n, L0), next(n, L0);
   const double eps = params.approximationTolerance * L0;
@@ -432,7 +440,8 @@ std::vector<double> AdaptiveRemeshing<MeshType>::ComputeSizing(const MeshType& m
 template <class MeshType>
 class AdaptiveRemeshing<MeshType>::Session {
 public:
-  Session(Ops& ops, std::vector<double>& sizing, const Params& params, int threads, const PositionFilter& allowed)
+  Session(Ops& ops, std::vector<double>& sizing, const Params& params, int threads,
+          const PositionFilter& allowed)
       : ops_(ops), m_(ops.Mesh()), ref_(ops.GetReference()), sizing_(sizing), params_(params),
         threads_(ResolveThreadCount(threads)), allowed_(allowed), scratch_(std::size_t(threads_)) {
     L0_ = ops.TargetEdgeLength();
@@ -612,7 +621,8 @@ private:
       for (int e = 0; e < 3; ++e) {
         FaceType* g = f.FFp(e);
         if (g == &f || g < &f) continue;
-        const std::size_t v0 = VIndex(f.cV(e)), v1 = VIndex(f.cV((e + 1) % 3)), v2 = VIndex(f.cV((e + 2) % 3));
+        const std::size_t v0 = VIndex(f.cV(e)), v1 = VIndex(f.cV((e + 1) % 3)),
+                          v2 = VIndex(f.cV((e + 2) % 3));
         const std::size_t v3 = VIndex(g->cV((f.FFi(e) + 2) % 3));
         if (ops_.IsLocked(m_.vert[v0]) && ops_.IsLocked(m_.vert[v1])) continue;
         auto deviation = [&](std::size_t v, int change) {
@@ -796,7 +806,8 @@ private:
     if (g == &f) return false;
     if (ops_.IsLocked(*f.V(z)) && ops_.IsLocked(*f.V((z + 1) % 3))) return false;
     const int w = f.FFi(z);
-    const Point p0 = Pos(f.cV(z)), p1 = Pos(f.cV((z + 1) % 3)), p2 = Pos(f.cV((z + 2) % 3)), p3 = Pos(g->cV((w + 2) % 3));
+    const Point p0 = Pos(f.cV(z)), p1 = Pos(f.cV((z + 1) % 3)), p2 = Pos(f.cV((z + 2) % 3)),
+                p3 = Pos(g->cV((w + 2) % 3));
     const double before = std::min(Score(p0, p1, p2), Score(p1, p0, p3));
     const double after = std::min(Score(p0, p3, p2), Score(p1, p2, p3));
     if (!(after > before + 1e-9)) return false;
@@ -825,7 +836,8 @@ private:
     // New edges may be as long as the needle's longest one (they usually are: the needle spans it).
     double longest = 0;
     for (int k = 0; k < 3; ++k) longest = std::max(longest, (Pos(f.cV(k)) - Pos(f.cV((k + 1) % 3))).Norm());
-    const double maxNew = std::max(longest, params_.splitFactor * std::min(MinSizingAround(a), MinSizingAround(b)));
+    const double maxNew =
+        std::max(longest, params_.splitFactor * std::min(MinSizingAround(a), MinSizingAround(b)));
     ops_.SetGuards(params_.repairGuards);
     const bool ok = ops_.CollapseEdge(&f, z, maxNew);
     ops_.SetGuards(params_.guards);
@@ -899,7 +911,8 @@ private:
     const bool wasLocked = ops_.IsLocked(m_.vert[bestW]);
     ops_.SetLocked(m_.vert[bestW], true);
     double longest = 0;
-    for (const auto& [g, k] : star_) longest = std::max(longest, (Pos(g->cV((k + 1) % 3)) - Pos(&m_.vert[bestW])).Norm());
+    for (const auto& [g, k] : star_)
+      longest = std::max(longest, (Pos(g->cV((k + 1) % 3)) - Pos(&m_.vert[bestW])).Norm());
     const bool ok = ops_.CollapseEdge(f, z, longest * (1.0 + 1e-9));
     ops_.SetLocked(m_.vert[bestW], wasLocked);
     if (!ok) return -1;
@@ -1074,7 +1087,8 @@ double AdaptiveRemeshing<MeshType>::RestoreVolume(Ops& ops, double maxOffset, do
         const Point p = Ops::ToPoint(v.cP());
         const SurfaceProjection proj = reference.Project(p, ops.Footpoint(v), scratch[std::size_t(t)]);
         const double now = proj.ok() ? (p - proj.point) * n : 0.0;
-        const double want = std::clamp(now + delta[std::size_t(vertexComponent[vertices[i]])], -maxOffset, maxOffset);
+        const double want =
+            std::clamp(now + delta[std::size_t(vertexComponent[vertices[i]])], -maxOffset, maxOffset);
         targets[i] = p + n * (want - now);
         feet[i] = proj.ok() ? proj.face : ops.Footpoint(v);
         reached[i] = std::fabs(want);
@@ -1095,7 +1109,8 @@ AdaptiveRemeshingStats AdaptiveRemeshing<MeshType>::Finalize(Ops& ops, std::vect
   std::vector<std::uint8_t> snapped(m.vert.size(), 0);
   const std::size_t snaps = SnapToInputVertices(ops, params, threads, snapped);
   double offset = 0;
-  if (params.preserveVolume) offset = RestoreVolume(ops, params.maxVolumeOffset * L0, params.volumeTolerance, threads);
+  if (params.preserveVolume)
+    offset = RestoreVolume(ops, params.maxVolumeOffset * L0, params.volumeTolerance, threads);
   // The snapped vertices stay during the repair (it would move them off the tips again).
   for (std::size_t i = 0; i < snapped.size() && i < m.vert.size(); ++i)
     if (snapped[i]) ops.SetLocked(m.vert[i], true);
@@ -1243,8 +1258,8 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
       const Point p = ref.Vertex(i);
       FaceType& f = m.face[fi];
       Point closest;
-      const double now2 = distance_detail::TriangleDistance2(p, Ops::ToPoint(f.cV(0)->cP()), Ops::ToPoint(f.cV(1)->cP()),
-                                                             Ops::ToPoint(f.cV(2)->cP()), closest);
+      const double now2 = distance_detail::TriangleDistance2(
+          p, Ops::ToPoint(f.cV(0)->cP()), Ops::ToPoint(f.cV(1)->cP()), Ops::ToPoint(f.cV(2)->cP()), closest);
       if (!(now2 > tolerance * tolerance)) continue; // an earlier move fixed it
       std::array<std::pair<double, int>, 3> order;
       for (int k = 0; k < 3; ++k) order[k] = {(Ops::ToPoint(f.cV(k)->cP()) - p).SquaredNorm(), k};
@@ -1307,15 +1322,16 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
 }
 
 template <class MeshType>
-AdaptiveRemeshingStats AdaptiveRemeshing<MeshType>::Remesh(Ops& ops, std::vector<double>& sizing, const Params& params,
-                                                           int iterations, int threads, const PositionFilter& allowed) {
+AdaptiveRemeshingStats AdaptiveRemeshing<MeshType>::Remesh(Ops& ops, std::vector<double>& sizing,
+                                                           const Params& params, int iterations, int threads,
+                                                           const PositionFilter& allowed) {
   Session session(ops, sizing, params, threads, allowed);
   return session.Run(iterations);
 }
 
 template <class MeshType>
-typename AdaptiveRemeshing<MeshType>::Result AdaptiveRemeshing<MeshType>::Do(MeshType& m, const Params& params,
-                                                                            vcg::CallBackPos* cb) {
+typename AdaptiveRemeshing<MeshType>::Result
+AdaptiveRemeshing<MeshType>::Do(MeshType& m, const Params& params, vcg::CallBackPos* cb) {
   Result result;
   const InputCheck check = CheckTriangleMeshInput(m);
   if (!check.ok) {
@@ -1332,8 +1348,9 @@ typename AdaptiveRemeshing<MeshType>::Result AdaptiveRemeshing<MeshType>::Do(Mes
 }
 
 template <class MeshType>
-typename AdaptiveRemeshing<MeshType>::Result AdaptiveRemeshing<MeshType>::Do(MeshType& m, const Reference& reference,
-                                                                            const Params& params, vcg::CallBackPos* cb) {
+typename AdaptiveRemeshing<MeshType>::Result
+AdaptiveRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const Params& params,
+                                vcg::CallBackPos* cb) {
   const auto start = std::chrono::steady_clock::now();
   Result result;
   auto finish = [&](bool ok, const std::string& message) {
@@ -1356,7 +1373,8 @@ typename AdaptiveRemeshing<MeshType>::Result AdaptiveRemeshing<MeshType>::Do(Mes
   qp.threads = params.threads;
   const QualityReport input = MeshQuality<MeshType>::Compute(m, qp);
   const double L0 = params.targetEdgeLength > 0 ? params.targetEdgeLength : input.meanEdgeLength;
-  if (!(L0 > 0) || !std::isfinite(L0)) return finish(false, "adaptive remeshing refused: no valid target edge length");
+  if (!(L0 > 0) || !std::isfinite(L0))
+    return finish(false, "adaptive remeshing refused: no valid target edge length");
   result.targetEdgeLength = L0;
   result.verticesIn = std::size_t(m.vn);
   result.facesIn = std::size_t(m.fn);
@@ -1389,8 +1407,8 @@ typename AdaptiveRemeshing<MeshType>::Result AdaptiveRemeshing<MeshType>::Do(Mes
   result.facesOut = std::size_t(m.fn);
   if (cb) cb(100, "RAR: done");
   return finish(true, "adaptive remeshing: " + std::to_string(result.verticesIn) + " -> " +
-                          std::to_string(result.verticesOut) + " vertices, " + std::to_string(result.stats.iterations) +
-                          " iterations");
+                          std::to_string(result.verticesOut) + " vertices, " +
+                          std::to_string(result.stats.iterations) + " iterations");
 }
 
 } // namespace molremesh

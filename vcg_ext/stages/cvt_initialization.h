@@ -75,53 +75,54 @@ public:
   using Point = vcg::Point3d;
 
   struct Params {
-    double targetEdgeLength = 0;       ///< L; 0 = the input's mean edge length
-    std::size_t targetVertexCount = 0; ///< > 0: L = sqrt(2 A / (sqrt(3) V)) for the input area A (overrides L)
-    int iterations = 42;               ///< Lloyd iterations (Khan et al.'s default)
-    int samplingPasses = 4;            ///< split / collapse passes before the Lloyd iterations
-    double splitFactor = 4.0 / 3.0;    ///< sampling splits edges longer than this x L
-    double collapseFactor = 4.0 / 5.0; ///< sampling collapses edges shorter than this x L
-    bool matchVertexCount = true;      ///< then split / collapse to the vertex count of a CVT with edge L
+    double targetEdgeLength = 0; ///< L; 0 = the input's mean edge length
+    std::size_t targetVertexCount =
+        0;                          ///< > 0: L = sqrt(2 A / (sqrt(3) V)) for the input area A (overrides L)
+    int iterations = 42;            ///< Lloyd iterations (Khan et al.'s default)
+    int samplingPasses = 4;         ///< split / collapse passes before the Lloyd iterations
+    double splitFactor = 4.0 / 3.0; ///< sampling splits edges longer than this x L
+    double collapseFactor = 4.0 / 5.0;   ///< sampling collapses edges shorter than this x L
+    bool matchVertexCount = true;        ///< then split / collapse to the vertex count of a CVT with edge L
     double vertexCountTolerance = 0.005; ///< relative; the count is matched within it
-    bool delaunayFlips = true;         ///< flip to Delaunay after every verification of the Lloyd moves
-    double maxFlipsPerVertex = 2.0;    ///< bound on the flips of one Delaunay restoration, per vertex
-    double minMoveFactor = 1e-6;       ///< Lloyd moves shorter than this x L (along the input's tangent plane)
-                                       ///< are skipped: the site has converged (no projection, no move)
-    int verifyEvery = 6;               ///< Lloyd iterations between two verifications + Delaunay flip passes
-                                       ///< (the first two and the last iteration are always verified; after
-                                       ///< the first few, most sites move less than 0.01 L per iteration)
+    bool delaunayFlips = true;           ///< flip to Delaunay after every verification of the Lloyd moves
+    double maxFlipsPerVertex = 2.0;      ///< bound on the flips of one Delaunay restoration, per vertex
+    double minMoveFactor = 1e-6; ///< Lloyd moves shorter than this x L (along the input's tangent plane)
+                                 ///< are skipped: the site has converged (no projection, no move)
+    int verifyEvery = 6;         ///< Lloyd iterations between two verifications + Delaunay flip passes
+                                 ///< (the first two and the last iteration are always verified; after
+                                 ///< the first few, most sites move less than 0.01 L per iteration)
     /// The last this many Lloyd iterations project each centroid onto the input with the
     /// closest-point search (and the lift of the reference's params). The earlier ones move it
     /// within its site's footpoint face when it projects inside it (nearly always: the moves are
     /// small), else search without the lift: the intermediate sites only need to lie on the input.
     int fullProjectionIterations = 1;
-    int threads = 0;                   ///< worker threads; 0 = all cores (the result does not depend on it)
-    LocalOpsGuards guards;             ///< thresholds of the local operations
-    bool preserveVolume = true;        ///< finally offset each closed component along its vertex normals so
-                                       ///< that it encloses the input's volume again (see RestoreVolume)
-    double maxVolumeOffset = 0.05;     ///< bound on that offset, in units of L (keeps vertices near the input)
+    int threads = 0;               ///< worker threads; 0 = all cores (the result does not depend on it)
+    LocalOpsGuards guards;         ///< thresholds of the local operations
+    bool preserveVolume = true;    ///< finally offset each closed component along its vertex normals so
+                                   ///< that it encloses the input's volume again (see RestoreVolume)
+    double maxVolumeOffset = 0.05; ///< bound on that offset, in units of L (keeps vertices near the input)
     typename ReferenceSurface<MeshType>::Params reference; ///< for the reference built by Do(m, params)
   };
 
   struct Result {
     bool ok = false;
-    std::string message;                ///< why it failed, or a one-line summary
-    double targetEdgeLength = 0;        ///< L actually used
+    std::string message;         ///< why it failed, or a one-line summary
+    double targetEdgeLength = 0; ///< L actually used
     std::size_t verticesIn = 0, facesIn = 0, verticesOut = 0, facesOut = 0;
     std::size_t splits = 0, collapses = 0, flips = 0; ///< applied operations (all phases)
-    std::size_t movesApplied = 0;       ///< Lloyd vertex moves made
-    std::size_t movesRejected = 0;      ///< vertices put back to their last verified position (or refused)
-    int verifications = 0;              ///< verification + flip passes of the Lloyd phase
-    std::size_t refusedOperations = 0;  ///< all refused single operations (splits, collapses, flips)
-    LocalOpsStats operations;           ///< counts of the local operations, refusals by reason
-    int iterations = 0;                 ///< Lloyd iterations done
-    double lastMeanMove = 0;            ///< mean Lloyd displacement of the last iteration, in units of L
-    double volumeOffset = 0;            ///< largest |normal offset| of the volume restoration, in units of L
-    double seconds = 0;                 ///< wall time of Do
-    double secondsSampling = 0;         ///< of which: sampling and vertex count matching
-    double secondsCentroids = 0;        ///< of which: cell centroids and their projection
-    double secondsMoves = 0;            ///< of which: applying and verifying the Lloyd moves
-    double secondsFlips = 0;            ///< of which: Delaunay flips
+    std::size_t movesApplied = 0;                     ///< Lloyd vertex moves made
+    std::size_t movesRejected = 0;     ///< vertices put back to their last verified position (or refused)
+    int verifications = 0;             ///< verification + flip passes of the Lloyd phase
+    std::size_t refusedOperations = 0; ///< all refused single operations (splits, collapses, flips)
+    LocalOpsStats operations;          ///< counts of the local operations, refusals by reason
+    int iterations = 0;                ///< Lloyd iterations done
+    double lastMeanMove = 0;           ///< mean Lloyd displacement of the last iteration, in units of L
+    double volumeOffset = 0;           ///< largest |normal offset| of the volume restoration, in units of L
+    double seconds = 0;                ///< wall time of Do
+    double secondsSampling = 0;        ///< of which: sampling and vertex count matching
+    double secondsCentroids = 0;       ///< of which: cell centroids and their projection
+    double secondsMoves = 0;           ///< of which: applying and verifying the Lloyd moves
+    double secondsFlips = 0;           ///< of which: Delaunay flips
   };
 
   /// Remeshes m in place. m must be a 2-manifold, consistently oriented triangle mesh with
@@ -167,7 +168,8 @@ private:
     std::size_t count = 0;
     for (const auto& f : m.face) {
       if (f.IsD()) continue;
-      for (int k = 0; k < 3; ++k) sum += (Ops::ToPoint(f.cV(k)->cP()) - Ops::ToPoint(f.cV((k + 1) % 3)->cP())).Norm();
+      for (int k = 0; k < 3; ++k)
+        sum += (Ops::ToPoint(f.cV(k)->cP()) - Ops::ToPoint(f.cV((k + 1) % 3)->cP())).Norm();
       count += 3;
     }
     return count > 0 ? sum / double(count) : 0.0;
@@ -183,7 +185,8 @@ private:
   /// consecutive edits touch the same memory.
   static void CollectEdges(const MeshType& m, double threshold2, bool longer, double cell,
                            std::vector<EdgeCandidate>& out);
-  static std::size_t SplitPass(Ops& ops, double threshold, std::size_t limit, std::vector<EdgeCandidate>& edges);
+  static std::size_t SplitPass(Ops& ops, double threshold, std::size_t limit,
+                               std::vector<EdgeCandidate>& edges);
   static std::size_t CollapsePass(Ops& ops, double threshold, double maxNewEdge, std::size_t limit,
                                   std::vector<EdgeCandidate>& edges);
   /// Flips non-Delaunay edges (guarded) until none is left or the flip budget is spent: all
@@ -194,7 +197,8 @@ private:
   /// surface is convex (longer chords cut more off). Each closed component is offset along its
   /// (area-weighted) vertex normals by delta = (V_input - V) / A, twice (the second pass removes
   /// the curvature term), through the verified batch move. Returns the largest |delta|.
-  static double RestoreVolume(Ops& ops, const ReferenceSurface<MeshType>& reference, double maxOffset, int threads);
+  static double RestoreVolume(Ops& ops, const ReferenceSurface<MeshType>& reference, double maxOffset,
+                              int threads);
 };
 
 // ------------------------------------------------------------------------------------------------
@@ -377,7 +381,8 @@ std::size_t CvtInitialization<MeshType>::DelaunayFlips(Ops& ops, int threads, do
     const std::uint32_t d = std::uint32_t(vcg::tri::Index(m, g->V((f->FFi(z) + 2) % 3)));
     if (!ops.FlipEdge(f, z)) continue;
     ++flips;
-    for (const auto& side : {std::make_pair(a, c), std::make_pair(c, b), std::make_pair(b, d), std::make_pair(d, a)})
+    for (const auto& side :
+         {std::make_pair(a, c), std::make_pair(c, b), std::make_pair(b, d), std::make_pair(d, a)})
       queue.push_back(side);
   }
   return flips;
@@ -430,7 +435,8 @@ double CvtInitialization<MeshType>::RestoreVolume(Ops& ops, const ReferenceSurfa
     for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
       const FaceType& f = m.face[fi];
       if (f.IsD()) continue;
-      const Point p0 = Ops::ToPoint(f.cV(0)->cP()), p1 = Ops::ToPoint(f.cV(1)->cP()), p2 = Ops::ToPoint(f.cV(2)->cP());
+      const Point p0 = Ops::ToPoint(f.cV(0)->cP()), p1 = Ops::ToPoint(f.cV(1)->cP()),
+                  p2 = Ops::ToPoint(f.cV(2)->cP());
       const Point cross = (p1 - p0) ^ (p2 - p0);
       const int c = component[fi];
       volume[c] += ((p0 - origin) * ((p1 - origin) ^ (p2 - origin))) / 6.0;
@@ -453,7 +459,8 @@ double CvtInitialization<MeshType>::RestoreVolume(Ops& ops, const ReferenceSurfa
     }
     for (std::size_t vi = 0; vi < m.vert.size(); ++vi) {
       VertexType& v = m.vert[vi];
-      if (v.IsD() || v.VFp() == nullptr || vertexComponent[vi] < 0 || delta[vertexComponent[vi]] == 0) continue;
+      if (v.IsD() || v.VFp() == nullptr || vertexComponent[vi] < 0 || delta[vertexComponent[vi]] == 0)
+        continue;
       const double len = normal[vi].Norm();
       if (!(len > 0)) continue;
       const Point p = Ops::ToPoint(v.cP());
@@ -466,8 +473,8 @@ double CvtInitialization<MeshType>::RestoreVolume(Ops& ops, const ReferenceSurfa
 
 template <class MeshType>
 typename CvtInitialization<MeshType>::Result
-CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* external, const Params& params,
-                                 vcg::CallBackPos* cb) {
+CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* external,
+                                 const Params& params, vcg::CallBackPos* cb) {
   const auto start = std::chrono::steady_clock::now();
   Result result;
   auto finish = [&](bool ok, const std::string& message) {
@@ -501,8 +508,10 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   }
 
   double L = params.targetEdgeLength > 0 ? params.targetEdgeLength : MeanEdgeLength(m);
-  if (params.targetVertexCount > 0) L = std::sqrt(2.0 * reference->Area() / (std::sqrt(3.0) * double(params.targetVertexCount)));
-  if (!(L > 0) || !std::isfinite(L)) return finish(false, "CVT initialization refused: no valid target edge length");
+  if (params.targetVertexCount > 0)
+    L = std::sqrt(2.0 * reference->Area() / (std::sqrt(3.0) * double(params.targetVertexCount)));
+  if (!(L > 0) || !std::isfinite(L))
+    return finish(false, "CVT initialization refused: no valid target edge length");
   result.targetEdgeLength = L;
 
   Ops ops(m, *reference, L, params.guards, params.threads);
@@ -538,8 +547,10 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
     const double have = double(LiveVertices(m));
     const double tolerance = std::max(1.0, params.vertexCountTolerance * wanted);
     if (std::fabs(have - wanted) <= tolerance) return;
-    if (have < wanted) SplitPass(ops, L, std::size_t(wanted - have), edges);
-    else CollapsePass(ops, L, splitLength, std::size_t(have - wanted), edges);
+    if (have < wanted)
+      SplitPass(ops, L, std::size_t(wanted - have), edges);
+    else
+      CollapsePass(ops, L, splitLength, std::size_t(have - wanted), edges);
   };
 
   // --- 2. Lloyd iterations ----------------------------------------------------------------------
@@ -606,27 +617,31 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
     }
     cellArea.assign(nv, 0.0);
     cellWeighted.assign(nv, Point(0, 0, 0));
-    ParallelFor(owners, threads, [&](std::size_t begin, std::size_t end, int) {
-      for (std::size_t owner = begin; owner < end; ++owner) {
-        const std::uint32_t lo = std::uint32_t(nv * owner / owners),
-                            hi = std::uint32_t(nv * (owner + 1) / owners);
-        for (const std::array<std::uint32_t, 3>& vi : ownerFaces[owner]) {
-          std::array<double, 3> area;
-          std::array<Point, 3> weighted;
-          FacePieces({position[vi[0]], position[vi[1]], position[vi[2]]}, area, weighted);
-          for (int k = 0; k < 3; ++k) {
-            if (vi[k] < lo || vi[k] >= hi) continue;
-            cellArea[vi[k]] += area[k];
-            cellWeighted[vi[k]] += weighted[k];
+    ParallelFor(
+        owners, threads,
+        [&](std::size_t begin, std::size_t end, int) {
+          for (std::size_t owner = begin; owner < end; ++owner) {
+            const std::uint32_t lo = std::uint32_t(nv * owner / owners),
+                                hi = std::uint32_t(nv * (owner + 1) / owners);
+            for (const std::array<std::uint32_t, 3>& vi : ownerFaces[owner]) {
+              std::array<double, 3> area;
+              std::array<Point, 3> weighted;
+              FacePieces({position[vi[0]], position[vi[1]], position[vi[2]]}, area, weighted);
+              for (int k = 0; k < 3; ++k) {
+                if (vi[k] < lo || vi[k] >= hi) continue;
+                cellArea[vi[k]] += area[k];
+                cellWeighted[vi[k]] += weighted[k];
+              }
+            }
           }
-        }
-      }
-    }, 1);
+        },
+        1);
 
     movable.clear();
     for (std::size_t i = 0; i < nv; ++i) {
       const VertexType& v = m.vert[i];
-      if (v.IsD() || v.cVFp() == nullptr || !(cellArea[i] > 0) || ops.IsLocked(v) || ops.IsBoundaryVertex(v)) continue;
+      if (v.IsD() || v.cVFp() == nullptr || !(cellArea[i] > 0) || ops.IsLocked(v) || ops.IsBoundaryVertex(v))
+        continue;
       movable.push_back(std::uint32_t(i));
     }
     footRecord.resize(nv);
@@ -671,8 +686,10 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
     for (std::size_t i = 0; i < movable.size(); ++i) {
       if (!(moveLength[i] > minMove2) || targetFoot[i] < 0) continue;
       moveSum += std::sqrt(moveLength[i]);
-      if (ops.MoveVertexUnchecked(&m.vert[movable[i]], target[i], targetFoot[i])) ++applied;
-      else ++rejected;
+      if (ops.MoveVertexUnchecked(&m.vert[movable[i]], target[i], targetFoot[i]))
+        ++applied;
+      else
+        ++rejected;
     }
     result.lastMeanMove = movable.empty() ? 0.0 : moveSum / double(movable.size()) / L;
     const bool last = it + 1 == params.iterations;

@@ -79,40 +79,42 @@ public:
   using Point = vcg::Point3d;
 
   struct Params {
-    typename Rar::Params rar;   ///< RAR of the patches and of the strip (its threads field is ignored)
-    int borderRings = 3;        ///< strip width: vertices within this many rings of a patch border (0 = none)
-    int borderIterations = 2;   ///< RAR iterations of the strip pass
-    int haloCells = 2;          ///< obstacle margin around each patch, in grid cells (>= the longest edge);
-                                ///< 0 = no obstacles in the parallel phase, only the fans of the border
-                                ///< vertices (the verification after stitching then redoes the patches
-                                ///< that meet, with obstacles: for testing)
-    bool finalPasses = true;    ///< strip pass and Finalize; false: stop after stitching, the borders exactly
-                                ///< as the patch phase kept them (for testing)
-    int threads = 0;            ///< worker threads; 0 = all cores (the result does not depend on it)
+    typename Rar::Params rar; ///< RAR of the patches and of the strip (its threads field is ignored)
+    int borderRings = 3;      ///< strip width: vertices within this many rings of a patch border (0 = none)
+    int borderIterations = 2; ///< RAR iterations of the strip pass
+    int haloCells = 2;        ///< obstacle margin around each patch, in grid cells (>= the longest edge);
+                              ///< 0 = no obstacles in the parallel phase, only the fans of the border
+                              ///< vertices (the verification after stitching then redoes the patches
+                              ///< that meet, with obstacles: for testing)
+    bool finalPasses = true;  ///< strip pass and Finalize; false: stop after stitching, the borders exactly
+                              ///< as the patch phase kept them (for testing)
+    int threads = 0;          ///< worker threads; 0 = all cores (the result does not depend on it)
   };
 
   struct Result {
     bool ok = false;
-    std::string message;              ///< why it failed, or a one-line summary
-    double targetEdgeLength = 0;      ///< L0
+    std::string message;                 ///< why it failed, or a one-line summary
+    double targetEdgeLength = 0;         ///< L0
     double minSizing = 0, maxSizing = 0; ///< the sizing field, in units of L0
-    int patches = 0;                  ///< patches remeshed
-    std::size_t borderVertices = 0;   ///< vertices shared by two or more patches
-    std::size_t stripVertices = 0;    ///< vertices unlocked for the strip pass
-    std::size_t haloFaces = 0;        ///< obstacle faces given to the patches, summed
-    std::size_t conflictPairs = 0;    ///< intersecting pairs between patches after the parallel phase
-    std::size_t patchesRedone = 0;    ///< patches remeshed again because of a conflict
-    std::size_t patchesFrozen = 0;    ///< patches left at their input faces (second conflict)
-    std::size_t patchesFailed = 0;    ///< patches whose mesh LocalRemeshingOps refused (left as they were)
-    std::string firstFailure;         ///< why the first of them was refused
+    int patches = 0;                     ///< patches remeshed
+    std::size_t borderVertices = 0;      ///< vertices shared by two or more patches
+    std::size_t stripVertices = 0;       ///< vertices unlocked for the strip pass
+    std::size_t haloFaces = 0;           ///< obstacle faces given to the patches, summed
+    std::size_t conflictPairs = 0;       ///< intersecting pairs between patches after the parallel phase
+    std::size_t patchesRedone = 0;       ///< patches remeshed again because of a conflict
+    std::size_t patchesFrozen = 0;       ///< patches left at their input faces (second conflict)
+    std::size_t patchesFailed = 0;       ///< patches whose mesh LocalRemeshingOps refused (left as they were)
+    std::string firstFailure;            ///< why the first of them was refused
     std::size_t verticesIn = 0, facesIn = 0, verticesOut = 0, facesOut = 0;
     AdaptiveRemeshingStats patchStats; ///< summed over the patches
     AdaptiveRemeshingStats stripStats;
     double seconds = 0, secondsSizing = 0, secondsPatches = 0, secondsStitch = 0, secondsCheck = 0,
            secondsStrip = 0;
-    double secondsStripInit = 0, secondsFinalize = 0; ///< of the strip pass: LocalRemeshingOps::Init, Finalize
-    double secondsPatchSetup = 0;     ///< of the patches' time: extraction and LocalRemeshingOps::Init, summed over threads
-    double secondsPatchInit = 0;      ///< of which LocalRemeshingOps::Init
+    double secondsStripInit = 0,
+           secondsFinalize = 0; ///< of the strip pass: LocalRemeshingOps::Init, Finalize
+    double secondsPatchSetup =
+        0; ///< of the patches' time: extraction and LocalRemeshingOps::Init, summed over threads
+    double secondsPatchInit = 0; ///< of which LocalRemeshingOps::Init
 
     /// One "name: value" line per figure, for the pipeline's stage summary.
     std::string Summary() const;
@@ -129,11 +131,11 @@ private:
   /// A mesh the patches are cut from: the input, or a stitched result.
   struct Global {
     MeshType mesh;
-    std::vector<int> facePatch;              ///< per face
-    std::vector<int> borderId;               ///< per vertex: border vertex id, or -1
-    std::vector<double> sizing;              ///< per vertex
-    std::vector<int> globalFeet;             ///< per vertex: ReferenceSurface::ProjectGlobal of its position
-                                             ///< (searched once for all patches and halos), or empty
+    std::vector<int> facePatch;  ///< per face
+    std::vector<int> borderId;   ///< per vertex: border vertex id, or -1
+    std::vector<double> sizing;  ///< per vertex
+    std::vector<int> globalFeet; ///< per vertex: ReferenceSurface::ProjectGlobal of its position
+                                 ///< (searched once for all patches and halos), or empty
     std::vector<std::vector<std::uint32_t>> facesOfPatch; ///< per patch, increasing
   };
   /// Uniform grid of face bounding boxes (static), for the halo search.
@@ -146,23 +148,23 @@ private:
   struct PatchResult {
     bool edited = false;
     bool failed = false;
-    std::string error;                       ///< why LocalRemeshingOps refused the patch
-    std::vector<Point> verts;                ///< interior vertices (not on a border)
-    std::vector<double> sizing;              ///< of verts
-    std::vector<std::array<int, 3>> faces;   ///< corners: >= 0 index in verts, < 0 border id -(id + 1)
+    std::string error;                     ///< why LocalRemeshingOps refused the patch
+    std::vector<Point> verts;              ///< interior vertices (not on a border)
+    std::vector<double> sizing;            ///< of verts
+    std::vector<std::array<int, 3>> faces; ///< corners: >= 0 index in verts, < 0 border id -(id + 1)
     std::size_t haloFaces = 0;
     AdaptiveRemeshingStats stats;
-    double secondsSetup = 0;                 ///< extraction and LocalRemeshingOps::Init
-    double secondsInit = 0;                  ///< of which LocalRemeshingOps::Init
+    double secondsSetup = 0; ///< extraction and LocalRemeshingOps::Init
+    double secondsInit = 0;  ///< of which LocalRemeshingOps::Init
   };
   struct Context {
     const Reference* reference = nullptr;
     const Params* params = nullptr;
     double L0 = 1;
-    std::vector<Point> borderPos;            ///< per border id
-    std::vector<double> borderSizing;        ///< per border id
+    std::vector<Point> borderPos;     ///< per border id
+    std::vector<double> borderSizing; ///< per border id
     int haloCells = 2;
-    double cell = 1;                         ///< of the halo grid
+    double cell = 1; ///< of the halo grid
   };
 
   static std::uint64_t CellKey(long x, long y, long z) {
@@ -171,7 +173,8 @@ private:
     return (c(x) << 42) | (c(y) << 21) | c(z);
   }
   static std::array<long, 3> CellOf(const CellIndex& index, const Point& p) {
-    return {long(std::floor((p[0] - index.origin[0]) / index.cell)), long(std::floor((p[1] - index.origin[1]) / index.cell)),
+    return {long(std::floor((p[0] - index.origin[0]) / index.cell)),
+            long(std::floor((p[1] - index.origin[1]) / index.cell)),
             long(std::floor((p[2] - index.origin[2]) / index.cell))};
   }
   static void FaceCells(const CellIndex& index, const FaceType& f, std::vector<std::uint64_t>& out) {
@@ -210,9 +213,9 @@ private:
   }
 
   struct InputTopology {
-    std::size_t badFaces = 0;             ///< null or repeated vertex
+    std::size_t badFaces = 0; ///< null or repeated vertex
     std::size_t nonManifoldEdges = 0, nonManifoldVertices = 0, misorientedEdges = 0, unreferencedVertices = 0;
-    double meanEdgeLength = 0;            ///< over face sides (interior edges twice)
+    double meanEdgeLength = 0; ///< over face sides (interior edges twice)
   };
   /// The preconditions, from FF and VF adjacency (recomputed): cheaper than a full quality report.
   static InputTopology CheckTopology(MeshType& m);
@@ -220,7 +223,8 @@ private:
   static void BuildCellIndex(const Global& g, double cell, int threads, CellIndex& index);
   static void IndexPatches(Global& g, int patchCount);
   static PatchResult OriginalPatch(const Global& g, int p);
-  static PatchResult RemeshPatch(const Global& g, const CellIndex& index, const Context& ctx, int p, int haloCells);
+  static PatchResult RemeshPatch(const Global& g, const CellIndex& index, const Context& ctx, int p,
+                                 int haloCells);
   static void Stitch(const Context& ctx, const std::vector<PatchResult>& results, Global& out);
   /// Empties m and frees its elements' memory (Clear keeps the vectors' capacity).
   static void ReleaseMesh(MeshType& m) {
@@ -229,8 +233,8 @@ private:
     typename MeshType::FaceContainer().swap(m.face);
   }
   /// Pairs of faces of different patches that intersect (LocalRemeshingOps' predicates), sorted.
-  static std::vector<std::pair<std::uint32_t, std::uint32_t>> CrossPatchIntersections(const Global& g, double L0,
-                                                                                      int threads);
+  static std::vector<std::pair<std::uint32_t, std::uint32_t>> CrossPatchIntersections(const Global& g,
+                                                                                      double L0, int threads);
   static AdaptiveRemeshingStats StripPass(Global& g, const Context& ctx, int threads, Result& result,
                                           std::string& error);
 };
@@ -270,12 +274,13 @@ std::string PatchwiseRemeshing<MeshType>::Result::Summary() const {
 }
 
 template <class MeshType>
-typename PatchwiseRemeshing<MeshType>::InputTopology PatchwiseRemeshing<MeshType>::CheckTopology(MeshType& m) {
+typename PatchwiseRemeshing<MeshType>::InputTopology
+PatchwiseRemeshing<MeshType>::CheckTopology(MeshType& m) {
   InputTopology t;
   for (const FaceType& f : m.face) {
     if (f.IsD()) continue;
-    if (f.cV(0) == nullptr || f.cV(1) == nullptr || f.cV(2) == nullptr || f.cV(0) == f.cV(1) || f.cV(1) == f.cV(2) ||
-        f.cV(2) == f.cV(0))
+    if (f.cV(0) == nullptr || f.cV(1) == nullptr || f.cV(2) == nullptr || f.cV(0) == f.cV(1) ||
+        f.cV(1) == f.cV(2) || f.cV(2) == f.cV(0))
       ++t.badFaces;
   }
   if (t.badFaces > 0) return t;
@@ -290,8 +295,10 @@ typename PatchwiseRemeshing<MeshType>::InputTopology PatchwiseRemeshing<MeshType
       const FaceType* g = f.cFFp(e);
       if (g == &f) continue;
       const int w = f.cFFi(e);
-      if (g->cFFp(w) != &f) ++t.nonManifoldEdges; // three or more faces on the edge
-      else if (g->cV(w) != f.cV((e + 1) % 3) || g->cV((w + 1) % 3) != f.cV(e)) ++t.misorientedEdges;
+      if (g->cFFp(w) != &f)
+        ++t.nonManifoldEdges; // three or more faces on the edge
+      else if (g->cV(w) != f.cV((e + 1) % 3) || g->cV((w + 1) % 3) != f.cV(e))
+        ++t.misorientedEdges;
     }
   }
   t.meanEdgeLength = sides > 0 ? edgeSum / double(sides) : 0.0;
@@ -346,7 +353,8 @@ template <class MeshType>
 void PatchwiseRemeshing<MeshType>::IndexPatches(Global& g, int patchCount) {
   g.facesOfPatch.assign(std::size_t(patchCount), {});
   for (std::size_t fi = 0; fi < g.mesh.face.size(); ++fi)
-    if (!g.mesh.face[fi].IsD() && g.facePatch[fi] >= 0) g.facesOfPatch[std::size_t(g.facePatch[fi])].push_back(std::uint32_t(fi));
+    if (!g.mesh.face[fi].IsD() && g.facePatch[fi] >= 0)
+      g.facesOfPatch[std::size_t(g.facePatch[fi])].push_back(std::uint32_t(fi));
 }
 
 template <class MeshType>
@@ -384,7 +392,8 @@ void PatchwiseRemeshing<MeshType>::BuildCellIndex(const Global& g, double cell, 
 }
 
 template <class MeshType>
-typename PatchwiseRemeshing<MeshType>::PatchResult PatchwiseRemeshing<MeshType>::OriginalPatch(const Global& g, int p) {
+typename PatchwiseRemeshing<MeshType>::PatchResult
+PatchwiseRemeshing<MeshType>::OriginalPatch(const Global& g, int p) {
   PatchResult r;
   std::vector<int> local(g.mesh.vert.size(), -1);
   for (const std::uint32_t fi : g.facesOfPatch[std::size_t(p)]) {
@@ -458,7 +467,8 @@ PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& inde
   // --- Local mesh: patch vertices (increasing global index), then halo vertices. ---
   std::vector<std::uint32_t> patchVerts;
   for (const std::uint32_t fi : patchFaces)
-    for (int k = 0; k < 3; ++k) patchVerts.push_back(std::uint32_t(vcg::tri::Index(g.mesh, g.mesh.face[fi].cV(k))));
+    for (int k = 0; k < 3; ++k)
+      patchVerts.push_back(std::uint32_t(vcg::tri::Index(g.mesh, g.mesh.face[fi].cV(k))));
   std::sort(patchVerts.begin(), patchVerts.end());
   patchVerts.erase(std::unique(patchVerts.begin(), patchVerts.end()), patchVerts.end());
   std::vector<std::uint32_t> globalOf(patchVerts.begin(), patchVerts.end());
@@ -472,7 +482,8 @@ PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& inde
   faces.reserve(patchFaces.size() + haloFaces.size());
   for (const std::uint32_t fi : patchFaces) {
     std::array<int, 3> t{};
-    for (int k = 0; k < 3; ++k) t[k] = patchLocal(std::uint32_t(vcg::tri::Index(g.mesh, g.mesh.face[fi].cV(k))));
+    for (int k = 0; k < 3; ++k)
+      t[k] = patchLocal(std::uint32_t(vcg::tri::Index(g.mesh, g.mesh.face[fi].cV(k))));
     faces.push_back(t);
   }
   {
@@ -626,7 +637,8 @@ PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& inde
 }
 
 template <class MeshType>
-void PatchwiseRemeshing<MeshType>::Stitch(const Context& ctx, const std::vector<PatchResult>& results, Global& out) {
+void PatchwiseRemeshing<MeshType>::Stitch(const Context& ctx, const std::vector<PatchResult>& results,
+                                          Global& out) {
   std::size_t nv = ctx.borderPos.size(), nf = 0;
   for (const PatchResult& r : results) {
     nv += r.verts.size();
@@ -690,34 +702,38 @@ PatchwiseRemeshing<MeshType>::CrossPatchIntersections(const Global& g, double L0
   const std::size_t block = 4096;
   const std::size_t blocks = (m.face.size() + block - 1) / block;
   std::vector<std::vector<std::pair<std::uint32_t, std::uint32_t>>> found(blocks);
-  ParallelFor(blocks, nThreads, [&](std::size_t b0, std::size_t b1, int t) {
-    for (std::size_t b = b0; b < b1; ++b) {
-      const std::size_t end = std::min(m.face.size(), (b + 1) * block);
-      for (std::size_t fi = b * block; fi < end; ++fi) {
-        const FaceType& f = m.face[fi];
-        if (f.IsD()) continue;
-        std::array<Point, 3> a;
-        std::array<const VertexType*, 3> va{};
-        for (int k = 0; k < 3; ++k) {
-          a[k] = Ops::ToPoint(f.cV(k)->cP());
-          va[k] = f.cV(k);
-        }
-        const Point na = local_ops_detail::UnitNormal(a);
-        grid.QueryFace(fi, marks[std::size_t(t)], [&](std::size_t gi) {
-          if (gi <= fi || g.facePatch[gi] == g.facePatch[fi]) return;
-          const FaceType& h = m.face[gi];
-          std::array<Point, 3> b2;
-          std::array<const VertexType*, 3> vb{};
-          for (int k = 0; k < 3; ++k) {
-            b2[k] = Ops::ToPoint(h.cV(k)->cP());
-            vb[k] = h.cV(k);
+  ParallelFor(
+      blocks, nThreads,
+      [&](std::size_t b0, std::size_t b1, int t) {
+        for (std::size_t b = b0; b < b1; ++b) {
+          const std::size_t end = std::min(m.face.size(), (b + 1) * block);
+          for (std::size_t fi = b * block; fi < end; ++fi) {
+            const FaceType& f = m.face[fi];
+            if (f.IsD()) continue;
+            std::array<Point, 3> a;
+            std::array<const VertexType*, 3> va{};
+            for (int k = 0; k < 3; ++k) {
+              a[k] = Ops::ToPoint(f.cV(k)->cP());
+              va[k] = f.cV(k);
+            }
+            const Point na = local_ops_detail::UnitNormal(a);
+            grid.QueryFace(fi, marks[std::size_t(t)], [&](std::size_t gi) {
+              if (gi <= fi || g.facePatch[gi] == g.facePatch[fi]) return;
+              const FaceType& h = m.face[gi];
+              std::array<Point, 3> b2;
+              std::array<const VertexType*, 3> vb{};
+              for (int k = 0; k < 3; ++k) {
+                b2[k] = Ops::ToPoint(h.cV(k)->cP());
+                vb[k] = h.cV(k);
+              }
+              if (local_ops_detail::FacesIntersect(a, na, va, b2, local_ops_detail::UnitNormal(b2), vb,
+                                                   margin))
+                found[b].emplace_back(std::uint32_t(fi), std::uint32_t(gi));
+            });
           }
-          if (local_ops_detail::FacesIntersect(a, na, va, b2, local_ops_detail::UnitNormal(b2), vb, margin))
-            found[b].emplace_back(std::uint32_t(fi), std::uint32_t(gi));
-        });
-      }
-    }
-  }, 1);
+        }
+      },
+      1);
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   for (auto& list : found) pairs.insert(pairs.end(), list.begin(), list.end());
   std::sort(pairs.begin(), pairs.end());
@@ -798,8 +814,9 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   if (!vcg::tri::HasFFAdjacency(m) || !vcg::tri::HasVFAdjacency(m))
     return finish(false, "patch-wise remeshing refused: face-face and vertex-face adjacency must be enabled");
   if (facePatch.size() != m.face.size())
-    return finish(false, "patch-wise remeshing refused: the segmentation has " + std::to_string(facePatch.size()) +
-                             " entries for " + std::to_string(m.face.size()) + " faces");
+    return finish(false, "patch-wise remeshing refused: the segmentation has " +
+                             std::to_string(facePatch.size()) + " entries for " +
+                             std::to_string(m.face.size()) + " faces");
   int patchCount = 0;
   for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
     if (m.face[fi].IsD()) continue;
@@ -809,23 +826,29 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   const auto& rp = params.rar;
   if (rp.iterations < 0 || params.borderIterations < 0 || params.borderRings < 0 || params.haloCells < 0)
     return finish(false, "patch-wise remeshing refused: negative iteration, ring or halo cell count");
-  if (!(rp.minLengthFactor > 0) || rp.maxLengthFactor < rp.minLengthFactor || !(rp.collapseFactor < rp.splitFactor))
+  if (!(rp.minLengthFactor > 0) || rp.maxLengthFactor < rp.minLengthFactor ||
+      !(rp.collapseFactor < rp.splitFactor))
     return finish(false, "patch-wise remeshing refused: need 0 < minLengthFactor <= maxLengthFactor and "
                          "collapseFactor < splitFactor");
   const InputTopology input = CheckTopology(m);
   if (input.badFaces > 0)
-    return finish(false, "patch-wise remeshing refused: the mesh has faces with a repeated or missing vertex; run the "
-                         "cleaning stage first");
+    return finish(
+        false, "patch-wise remeshing refused: the mesh has faces with a repeated or missing vertex; run the "
+               "cleaning stage first");
   if (input.nonManifoldEdges > 0 || input.nonManifoldVertices > 0 || input.misorientedEdges > 0)
-    return finish(false, "patch-wise remeshing refused: the mesh is not a consistently oriented 2-manifold (" +
-                             std::to_string(input.nonManifoldEdges) + " non-manifold edges, " +
-                             std::to_string(input.nonManifoldVertices) + " non-manifold vertices, " +
-                             std::to_string(input.misorientedEdges) +
-                             " misoriented edges); run the cleaning stage first");
+    return finish(false,
+                  "patch-wise remeshing refused: the mesh is not a consistently oriented 2-manifold (" +
+                      std::to_string(input.nonManifoldEdges) + " non-manifold edges, " +
+                      std::to_string(input.nonManifoldVertices) + " non-manifold vertices, " +
+                      std::to_string(input.misorientedEdges) +
+                      " misoriented edges); run the cleaning stage first");
   if (input.unreferencedVertices > 0)
-    return finish(false, "patch-wise remeshing refused: the mesh has unreferenced vertices; run the cleaning stage first");
+    return finish(
+        false,
+        "patch-wise remeshing refused: the mesh has unreferenced vertices; run the cleaning stage first");
   const double L0 = rp.targetEdgeLength > 0 ? rp.targetEdgeLength : input.meanEdgeLength;
-  if (!(L0 > 0) || !std::isfinite(L0)) return finish(false, "patch-wise remeshing refused: no valid target edge length");
+  if (!(L0 > 0) || !std::isfinite(L0))
+    return finish(false, "patch-wise remeshing refused: no valid target edge length");
   result.targetEdgeLength = L0;
   result.verticesIn = std::size_t(m.vn);
   result.facesIn = std::size_t(m.fn);
@@ -855,8 +878,10 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   for (std::size_t fi = 0; fi < g0.mesh.face.size(); ++fi)
     for (int k = 0; k < 3; ++k) {
       int& vp = vertPatch[vcg::tri::Index(g0.mesh, g0.mesh.face[fi].cV(k))];
-      if (vp == -1) vp = g0.facePatch[fi];
-      else if (vp != g0.facePatch[fi]) vp = -2;
+      if (vp == -1)
+        vp = g0.facePatch[fi];
+      else if (vp != g0.facePatch[fi])
+        vp = -2;
     }
   Context ctx;
   ctx.reference = &reference;
@@ -898,9 +923,11 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
     double longest = 0;
     for (const FaceType& f : g0.mesh.face)
       for (int k = 0; k < 3; ++k)
-        longest = std::max(longest, (Ops::ToPoint(f.cV(k)->cP()) - Ops::ToPoint(f.cV((k + 1) % 3)->cP())).Norm());
+        longest =
+            std::max(longest, (Ops::ToPoint(f.cV(k)->cP()) - Ops::ToPoint(f.cV((k + 1) % 3)->cP())).Norm());
     ctx.cell = 1.05 * std::max(longest, rp.splitFactor * rp.maxLengthFactor * L0);
-    std::vector<PatchResult> original(static_cast<std::size_t>(patchCount)), results(static_cast<std::size_t>(patchCount));
+    std::vector<PatchResult> original(static_cast<std::size_t>(patchCount)),
+        results(static_cast<std::size_t>(patchCount));
     // The footpoints every patch's LocalRemeshingOps::Init would search for its vertices and its
     // halo's, once per vertex instead of once per patch that holds it (about twice).
     g0.globalFeet.assign(g0.mesh.vert.size(), -1);
@@ -921,12 +948,15 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
       std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
         return g0.facesOfPatch[std::size_t(a)].size() > g0.facesOfPatch[std::size_t(b)].size();
       });
-      ParallelFor(order.size(), threads, [&](std::size_t begin, std::size_t end, int) {
-        for (std::size_t i = begin; i < end; ++i) {
-          const int p = order[i];
-          results[std::size_t(p)] = RemeshPatch(g0, index, ctx, p, ctx.haloCells);
-        }
-      }, 1);
+      ParallelFor(
+          order.size(), threads,
+          [&](std::size_t begin, std::size_t end, int) {
+            for (std::size_t i = begin; i < end; ++i) {
+              const int p = order[i];
+              results[std::size_t(p)] = RemeshPatch(g0, index, ctx, p, ctx.haloCells);
+            }
+          },
+          1);
     }
     result.secondsPatches = rar_detail::Seconds(phase);
     // From here on the stitched mesh and the patches' original faces (`original`) are all that is
@@ -947,7 +977,8 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
       std::vector<int> involved;
       for (const auto& [a, b] : pairs) {
         const int pa = g.facePatch[a], pb = g.facePatch[b];
-        if (!results[std::size_t(pa)].edited && !results[std::size_t(pb)].edited) continue; // was in the input
+        if (!results[std::size_t(pa)].edited && !results[std::size_t(pb)].edited)
+          continue; // was in the input
         for (const int q : {pa, pb})
           if (results[std::size_t(q)].edited) involved.push_back(q);
       }
@@ -1006,7 +1037,8 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   result.facesOut = std::size_t(m.fn);
   progress(100, "RAR: done");
   return finish(true, "patch-wise RAR: " + std::to_string(result.patches) + " patches, " +
-                          std::to_string(result.verticesIn) + " -> " + std::to_string(result.verticesOut) + " vertices");
+                          std::to_string(result.verticesIn) + " -> " + std::to_string(result.verticesOut) +
+                          " vertices");
 }
 
 } // namespace molremesh

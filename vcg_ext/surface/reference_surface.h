@@ -125,18 +125,20 @@ public:
   using Point = vcg::Point3d;
 
   struct Params {
-    double searchRadius = 0;        ///< Project never looks farther than this from the query; 0 = 3 x mean edge length
-    double maxNormalAngleDeg = 90;  ///< Project skips faces whose normal is farther than this from the hint face's
-    int maxVisitedFaces = 4096;     ///< bound on the faces one Project call examines
-    double gridCellFactor = 2.0;    ///< global grid cell size, in mean edge lengths
-    double phongAlpha = 0.0;        ///< Project lifts toward the Phong tessellation of the input, blended by
-                                    ///< this factor (0: the flat triangles themselves, 1: the Phong surface;
-                                    ///< RemeshPipeline sets 0.5 for runs from CVT through RAR)
-    double phongMaxLift = 0.05;     ///< bound on the lift's length, in mean edge lengths of the input
-                                    ///< (0: unbounded)
-    double phongSmoothDeg = 30;     ///< full lift on faces whose corner normals all lie within this angle
-    double phongCreaseDeg = 60;     ///< of the face normal, none when one lies this far (a crease, a fin,
-                                    ///< a sliver fan: the Phong surface means nothing there); linear between
+    double searchRadius =
+        0; ///< Project never looks farther than this from the query; 0 = 3 x mean edge length
+    double maxNormalAngleDeg =
+        90; ///< Project skips faces whose normal is farther than this from the hint face's
+    int maxVisitedFaces = 4096;  ///< bound on the faces one Project call examines
+    double gridCellFactor = 2.0; ///< global grid cell size, in mean edge lengths
+    double phongAlpha = 0.0;     ///< Project lifts toward the Phong tessellation of the input, blended by
+                                 ///< this factor (0: the flat triangles themselves, 1: the Phong surface;
+                                 ///< RemeshPipeline sets 0.5 for runs from CVT through RAR)
+    double phongMaxLift = 0.05;  ///< bound on the lift's length, in mean edge lengths of the input
+                                 ///< (0: unbounded)
+    double phongSmoothDeg = 30;  ///< full lift on faces whose corner normals all lie within this angle
+    double phongCreaseDeg = 60;  ///< of the face normal, none when one lies this far (a crease, a fin,
+                                 ///< a sliver fan: the Phong surface means nothing there); linear between
   };
 
   /// Per-thread working memory of Project (visited marks). Cheap to keep, costly to create per call.
@@ -394,7 +396,8 @@ bool ReferenceSurface<MeshType>::Build(const MeshType& m, const Params& params, 
     vertexNormals_.assign(vertices_.size(), Point(0, 0, 0));
     for (std::size_t f = 0; f < faceCount_; ++f)
       for (int k = 0; k < 3; ++k) {
-        const Point u = faces_[f].p[(k + 1) % 3] - faces_[f].p[k], w = faces_[f].p[(k + 2) % 3] - faces_[f].p[k];
+        const Point u = faces_[f].p[(k + 1) % 3] - faces_[f].p[k],
+                    w = faces_[f].p[(k + 2) % 3] - faces_[f].p[k];
         vertexNormals_[faceVertices_[f][k]] += faces_[f].n * std::atan2((u ^ w).Norm(), u * w);
       }
     for (auto& n : vertexNormals_) {
@@ -431,7 +434,7 @@ void ReferenceSurface<MeshType>::BuildAdjacency(const std::vector<std::array<std
   // Faces sharing an edge are mutual neighbours (all of them on a non-manifold edge).
   std::uint32_t vertexCount = 0;
   for (const auto& t : tris) vertexCount = std::max({vertexCount, t[0] + 1, t[1] + 1, t[2] + 1});
-  std::vector<std::uint8_t> onOddEdge(faceCount_, 0); // on an edge without exactly two faces
+  std::vector<std::uint8_t> onOddEdge(faceCount_, 0);         // on an edge without exactly two faces
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs; // (face, neighbour)
   pairs.reserve(tris.size() * 3);
   ForEachEdgeSideGroup(
@@ -568,7 +571,8 @@ SurfaceProjection ReferenceSurface<MeshType>::ProjectGlobal(const Point& p) cons
       for (int y = lo[1]; y <= hi[1]; ++y)
         for (int x = lo[0]; x <= hi[0]; ++x) {
           // Only the cells of shell s (Chebyshev distance s from the center).
-          if (std::max({std::abs(x - center[0]), std::abs(y - center[1]), std::abs(z - center[2])}) != s) continue;
+          if (std::max({std::abs(x - center[0]), std::abs(y - center[1]), std::abs(z - center[2])}) != s)
+            continue;
           const std::size_t c = (std::size_t(z) * dims_[1] + y) * dims_[0] + x;
           for (std::uint32_t k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
             const int f = int(cellFaces_[k]);

@@ -41,18 +41,18 @@ namespace molremesh {
 
 /// Distance from a sampled surface A to a surface B. All distances are in the meshes' units.
 struct OneSidedDistance {
-  bool ok = false;      ///< false when B has no usable face or A has no sample; figures are then 0
-  std::string message;  ///< why ok is false
+  bool ok = false;               ///< false when B has no usable face or A has no sample; figures are then 0
+  std::string message;           ///< why ok is false
   std::size_t vertexSamples = 0; ///< A's vertices measured
   std::size_t faceSamples = 0;   ///< area-uniform points of A's faces measured
-  double max = 0;       ///< largest distance over all samples (the one-sided Hausdorff distance)
-  double mean = 0;      ///< mean over all samples (vertices and face samples alike)
-  double rms = 0;       ///< root mean square over all samples
-  double vertexMax = 0; ///< largest distance of A's vertices to B
-  double vertexMean = 0;///< mean distance of A's vertices to B
-  double faceMax = 0;   ///< largest distance of the face samples to B
-  double faceMean = 0;  ///< mean over the face samples: the area-weighted mean distance of A to B
-  vcg::Point3d maxAt{0, 0, 0}; ///< the sample of A where max is reached (the first one on ties)
+  double max = 0;                ///< largest distance over all samples (the one-sided Hausdorff distance)
+  double mean = 0;               ///< mean over all samples (vertices and face samples alike)
+  double rms = 0;                ///< root mean square over all samples
+  double vertexMax = 0;          ///< largest distance of A's vertices to B
+  double vertexMean = 0;         ///< mean distance of A's vertices to B
+  double faceMax = 0;            ///< largest distance of the face samples to B
+  double faceMean = 0;           ///< mean over the face samples: the area-weighted mean distance of A to B
+  vcg::Point3d maxAt{0, 0, 0};   ///< the sample of A where max is reached (the first one on ties)
 };
 
 /// Distances both ways and their maximum.
@@ -68,7 +68,9 @@ namespace distance_detail {
 using Point = vcg::Point3d;
 using Index = std::uint32_t;
 
-inline bool IsFinite(const Point& p) { return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]); }
+inline bool IsFinite(const Point& p) {
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
 
 template <class VertexType>
 Point ToPoint(const VertexType& v) {
@@ -89,7 +91,8 @@ inline double SegmentDistance2(const Point& p, const Point& a, const Point& b, P
 /// Squared distance of p to the closed triangle abc, and the closest point (Ericson, "Real-Time
 /// Collision Detection", 5.1.5: Voronoi regions of the corners, edges and interior). Triangles
 /// too thin for the barycentric solve are measured as their three segments.
-inline double TriangleDistance2(const Point& p, const Point& a, const Point& b, const Point& c, Point& closest) {
+inline double TriangleDistance2(const Point& p, const Point& a, const Point& b, const Point& c,
+                                Point& closest) {
   const Point ab = b - a, ac = c - a, ap = p - a;
   const double abLen2 = ab.SquaredNorm(), acLen2 = ac.SquaredNorm(), bcLen2 = (c - b).SquaredNorm();
   const double cross2 = (ab ^ ac).SquaredNorm();
@@ -259,7 +262,8 @@ public:
       double unsearched = std::numeric_limits<double>::infinity();
       for (int a = 0; a < 3; ++a) {
         if (c[a] - r > 0) unsearched = std::min(unsearched, p[a] - (origin_[a] + (c[a] - r) * cellSize_));
-        if (c[a] + r < dims_[a] - 1) unsearched = std::min(unsearched, origin_[a] + (c[a] + r + 1) * cellSize_ - p[a]);
+        if (c[a] + r < dims_[a] - 1)
+          unsearched = std::min(unsearched, origin_[a] + (c[a] + r + 1) * cellSize_ - p[a]);
       }
       if (unsearched == std::numeric_limits<double>::infinity()) break; // the whole grid was searched
       if (best2 <= unsearched * unsearched && unsearched >= 0) break;
@@ -309,14 +313,16 @@ private:
   Point origin_{0, 0, 0};
   double cellSize_ = 1;
   std::array<int, 3> dims_{1, 1, 1};
-  std::vector<std::size_t> cellStart_; ///< CSR: faces of cell i are cellFaces_[cellStart_[i] .. cellStart_[i+1])
+  std::vector<std::size_t>
+      cellStart_; ///< CSR: faces of cell i are cellFaces_[cellStart_[i] .. cellStart_[i+1])
   std::vector<Index> cellFaces_;
 };
 
 /// The live faces of m with three finite corners, as a triangle soup over m's vertex indices.
 /// Vertex indices are those of m.vert; points holds every vertex (non-finite ones included).
 template <class MeshType>
-void ExtractTriangles(const MeshType& m, std::vector<Point>& points, std::vector<std::array<Index, 3>>& tris) {
+void ExtractTriangles(const MeshType& m, std::vector<Point>& points,
+                      std::vector<std::array<Index, 3>>& tris) {
   points.resize(m.vert.size());
   for (std::size_t v = 0; v < m.vert.size(); ++v) points[v] = ToPoint(m.vert[v]);
   tris.clear();
@@ -356,7 +362,8 @@ private:
 };
 
 /// Distances of every query point to the grid, computed on `threads` threads.
-inline std::vector<double> DistancesTo(const TriangleGrid& grid, const std::vector<Point>& queries, unsigned threads) {
+inline std::vector<double> DistancesTo(const TriangleGrid& grid, const std::vector<Point>& queries,
+                                       unsigned threads) {
   std::vector<double> out(queries.size(), 0.0);
   threads = std::max(1u, std::min<unsigned>(threads, unsigned(queries.size() / 1024 + 1)));
   auto work = [&](std::size_t begin, std::size_t end) {
@@ -370,7 +377,8 @@ inline std::vector<double> DistancesTo(const TriangleGrid& grid, const std::vect
   std::vector<std::thread> pool;
   const std::size_t chunk = (queries.size() + threads - 1) / threads;
   for (unsigned t = 0; t < threads; ++t) {
-    const std::size_t begin = std::min(queries.size(), t * chunk), end = std::min(queries.size(), begin + chunk);
+    const std::size_t begin = std::min(queries.size(), t * chunk),
+                      end = std::min(queries.size(), begin + chunk);
     pool.emplace_back(work, begin, end);
   }
   for (auto& th : pool) th.join();
@@ -407,7 +415,8 @@ public:
 // ------------------------------------------------------------------------------------------------
 
 template <class MeshA, class MeshB>
-OneSidedDistance SurfaceDistance<MeshA, MeshB>::OneSided(const MeshA& a, const MeshB& b, const Params& params) {
+OneSidedDistance SurfaceDistance<MeshA, MeshB>::OneSided(const MeshA& a, const MeshB& b,
+                                                         const Params& params) {
   using namespace distance_detail;
   OneSidedDistance result;
 
@@ -456,7 +465,8 @@ OneSidedDistance SurfaceDistance<MeshA, MeshB>::OneSided(const MeshA& a, const M
       f = std::min(f, aTris.size() - 1);
       const double r1 = std::sqrt(random.Uniform()), r2 = random.Uniform();
       const auto& t = aTris[f];
-      queries.push_back(aPoints[t[0]] * (1.0 - r1) + aPoints[t[1]] * (r1 * (1.0 - r2)) + aPoints[t[2]] * (r1 * r2));
+      queries.push_back(aPoints[t[0]] * (1.0 - r1) + aPoints[t[1]] * (r1 * (1.0 - r2)) +
+                        aPoints[t[2]] * (r1 * r2));
     }
     result.faceSamples = wanted;
   }
@@ -492,7 +502,8 @@ OneSidedDistance SurfaceDistance<MeshA, MeshB>::OneSided(const MeshA& a, const M
 }
 
 template <class MeshA, class MeshB>
-SymmetricDistance SurfaceDistance<MeshA, MeshB>::Symmetric(const MeshA& a, const MeshB& b, const Params& params) {
+SymmetricDistance SurfaceDistance<MeshA, MeshB>::Symmetric(const MeshA& a, const MeshB& b,
+                                                           const Params& params) {
   SymmetricDistance result;
   result.aToB = OneSided(a, b, params);
   typename SurfaceDistance<MeshB, MeshA>::Params reverse;
@@ -501,14 +512,17 @@ SymmetricDistance SurfaceDistance<MeshA, MeshB>::Symmetric(const MeshA& a, const
   reverse.threads = params.threads;
   result.bToA = SurfaceDistance<MeshB, MeshA>::OneSided(b, a, reverse);
   result.ok = result.aToB.ok && result.bToA.ok;
-  if (!result.aToB.ok) result.message = "A to B: " + result.aToB.message;
-  else if (!result.bToA.ok) result.message = "B to A: " + result.bToA.message;
+  if (!result.aToB.ok)
+    result.message = "A to B: " + result.aToB.message;
+  else if (!result.bToA.ok)
+    result.message = "B to A: " + result.bToA.message;
   if (result.ok) result.hausdorff = std::max(result.aToB.max, result.bToA.max);
   return result;
 }
 
 template <class MeshA, class MeshB>
-std::vector<double> SurfaceDistance<MeshA, MeshB>::VertexDistances(const MeshA& a, const MeshB& b, unsigned threads) {
+std::vector<double> SurfaceDistance<MeshA, MeshB>::VertexDistances(const MeshA& a, const MeshB& b,
+                                                                   unsigned threads) {
   using namespace distance_detail;
   std::vector<Point> bPoints;
   std::vector<std::array<Index, 3>> bTris;
