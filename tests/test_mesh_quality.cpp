@@ -626,7 +626,6 @@ TEST(MeshQuality, FarOutlierVertexKeepsTheGridUseful) {
 
 /// Counts by brute force with the same predicates, to check the grid neither misses nor repeats.
 std::array<std::size_t, 2> BruteForceIntersections(const MeshD& m) {
-  namespace qd = molremesh::quality_detail;
   std::array<std::size_t, 2> counts{0, 0};
   for (std::size_t i = 0; i < m.face.size(); ++i)
     for (std::size_t j = i + 1; j < m.face.size(); ++j) {
@@ -636,10 +635,10 @@ std::array<std::size_t, 2> BruteForceIntersections(const MeshD& m) {
       for (int u = 0; u < 3; ++u)
         for (int w = 0; w < 3; ++w)
           if (a.cV(u) == b.cV(w)) ++shared, ca = u, cb = w;
-      const auto ta = qd::MakePlanarTriangle(a.cP(0), a.cP(1), a.cP(2));
-      const auto tb = qd::MakePlanarTriangle(b.cP(0), b.cP(1), b.cP(2));
-      if (shared == 0 && qd::TrianglesIntersect(ta, tb)) ++counts[0];
-      if (shared == 1 && qd::SharedCornerOverlap(ta, ca, tb, cb)) ++counts[1];
+      const auto ta = molremesh::MakePlanarTriangle(a.cP(0), a.cP(1), a.cP(2));
+      const auto tb = molremesh::MakePlanarTriangle(b.cP(0), b.cP(1), b.cP(2));
+      if (shared == 0 && molremesh::TrianglesIntersect(ta, tb)) ++counts[0];
+      if (shared == 1 && molremesh::SharedCornerOverlap(ta, ca, tb, cb)) ++counts[1];
     }
   return counts;
 }
@@ -742,13 +741,12 @@ TEST(MeshQuality, AliasedGridCellsDoNotRepeatPairs) {
 TEST(MeshQuality, FindSelfIntersectionsListsEachPairOnceWithItsKind) {
   // 0: a triangle in z = 0; 1: one crossing it (no shared vertex, away from 2); 2: one sharing
   // vertex 0 whose edge to vertex 6 lies inside triangle 0; 3: triangle 0 again (same vertices).
-  using molremesh::quality_detail::FindSelfIntersections;
-  using molremesh::quality_detail::IntersectingPair;
+  using molremesh::FindSelfIntersections;
+  using molremesh::IntersectingPair;
   const std::vector<Point> points{Point(0, 0, 0),      Point(2, 0, 0),     Point(0, 2, 0),
                                   Point(1.5, 0.1, -1), Point(1.5, 0.1, 1), Point(1.5, 0.3, 1),
                                   Point(1, 0.2, 0),    Point(0.2, 1, 0.5)};
-  const std::vector<std::array<molremesh::quality_detail::Index, 3>> tris{
-      {0, 1, 2}, {3, 4, 5}, {0, 6, 7}, {0, 1, 2}};
+  const std::vector<std::array<molremesh::Index, 3>> tris{{0, 1, 2}, {3, 4, 5}, {0, 6, 7}, {0, 1, 2}};
   auto sorted = [](std::vector<IntersectingPair> pairs) {
     std::vector<std::tuple<std::uint32_t, std::uint32_t, bool>> out;
     for (const auto& p : pairs) out.emplace_back(std::min(p.i, p.j), std::max(p.i, p.j), p.adjacent);

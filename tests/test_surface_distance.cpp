@@ -20,7 +20,7 @@ namespace {
 
 using molremesh::MeshD;
 using Distance = molremesh::SurfaceDistance<MeshD, MeshD>;
-using molremesh::distance_detail::Point;
+using molremesh::Point;
 using molremesh::distance_detail::TriangleDistance2;
 
 /// Flat square [0, size]^2 at height z, split into n x n cells of two triangles each.

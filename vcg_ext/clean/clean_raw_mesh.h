@@ -63,7 +63,7 @@
 //    Faces added by the hole filling have default attributes (color, quality); split vertices copy the
 //    attributes of the vertex they were split from. Selection, visited and user flags are not used.
 //  - cb reports progress only; its return value is ignored (a half-done cleaning is not offered).
-//  - The triangle/triangle predicates are MeshQuality's (quality_detail::TrianglesIntersect,
+//  - The triangle/triangle predicates are MeshQuality's (TrianglesIntersect,
 //    SharedCornerOverlap), so "no self-intersection" means the same here and in the quality report.
 //  - Vertices that are already fine never move: merging keeps the surviving vertex's position, a
 //    collapse keeps one end point in place, splits create copies at the same position. The only
@@ -97,6 +97,8 @@
 #include <vcg_ext/core/input_check.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/geometry/mean_edge_length.h>
+#include <vcg_ext/spatial/self_intersections.h>
 
 namespace molremesh {
 
@@ -341,20 +343,6 @@ private:
   }
   static bool IsBorderEdge(const FaceType& f, int e) { return f.cFFp(e) == &f; }
 
-  static double MeanEdgeLength(const MeshType& m) {
-    double sum = 0;
-    std::size_t count = 0;
-    for (const auto& f : m.face) {
-      if (f.IsD()) continue;
-      for (int k = 0; k < 3; ++k) {
-        if (f.cV(k) == f.cV((k + 1) % 3)) continue;
-        sum += (Pos(m, VI(m, f, k)) - Pos(m, VI(m, f, (k + 1) % 3))).Norm();
-        ++count;
-      }
-    }
-    return count > 0 ? sum / double(count) : 0.0;
-  }
-
   static void DeleteFace(MeshType& m, Index f) {
     if (!m.face[f].IsD()) vcg::tri::Allocator<MeshType>::DeleteFace(m, m.face[f]);
   }
@@ -428,7 +416,7 @@ private:
         if (f.cV(k) == nullptr || f.cV(k) < begin || f.cV(k) >= end || f.cV(k)->IsD())
           return refuse("face " + std::to_string(fi - 1) + " references a missing or deleted vertex");
     }
-    const double meanEdge = MeanEdgeLength(m);
+    const double meanEdge = MeanEdgeLength(m, /*skipCollapsedSides=*/true);
     const double minArea = params.degenerateAreaEpsilon * meanEdge * meanEdge;
     bool anyProper = false;
     for (const auto& f : m.face) {
@@ -461,7 +449,8 @@ private:
     r.selfIntersectingFacesBefore = before.selfIntersectingFaces;
     // The tolerances are relative to MeshQuality's mean edge length, so that "degenerate" means the
     // same thing here and in the report.
-    const double meanEdge = before.meanEdgeLength > 0 ? before.meanEdgeLength : MeanEdgeLength(m);
+    const double meanEdge =
+        before.meanEdgeLength > 0 ? before.meanEdgeLength : MeanEdgeLength(m, /*skipCollapsedSides=*/true);
     const std::size_t inputFaces = m.face.size();
 
     Progress(cb, 5, "Merging coincident vertices");
@@ -1225,7 +1214,6 @@ private:
         if (a[i] == b[j]) ++shared, ca = i, cb = j;
     if (shared >= 3) return true;
     if (shared == 2) return false;
-    using namespace quality_detail;
     const PlanarTriangle ta = MakePlanarTriangle(Pos(m, a[0]), Pos(m, a[1]), Pos(m, a[2]));
     const PlanarTriangle tb = MakePlanarTriangle(Pos(m, b[0]), Pos(m, b[1]), Pos(m, b[2]));
     if (shared == 0) return TrianglesIntersect(ta, tb);
@@ -1539,9 +1527,9 @@ private:
       }
       std::vector<Point> points(m.vert.size());
       for (Index v = 0; v < m.vert.size(); ++v) points[v] = Pos(m, v);
-      const auto pairs = quality_detail::FindSelfIntersections(tris, points, meanEdge,
-                                                               ResolveThreadCount(params.threads), true);
-      for (const quality_detail::IntersectingPair& pair : pairs) {
+      const auto pairs =
+          FindSelfIntersections(tris, points, meanEdge, ResolveThreadCount(params.threads), true);
+      for (const IntersectingPair& pair : pairs) {
         const Index f = faceOf[pair.i], g = faceOf[pair.j];
         involved[f] = involved[g] = 1;
         const Index a = find(f), b = find(g);

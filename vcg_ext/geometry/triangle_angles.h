@@ -1,6 +1,6 @@
 // Triangle angle figures shared by the local stages (small-angle elimination, obtuse reduction,
 // local smoothing): the smallest and largest angle of a triangle, a tally of them over a set of
-// triangles, and the mean edge length of a mesh (their default target edge length L).
+// triangles.
 //
 // Everything is computed in double precision whatever the mesh's scalar type, so a float mesh
 // (MeshLab's CMeshO) and a double mesh take the same decisions. The stages compare these angles
@@ -8,9 +8,8 @@
 // output, so the formulas are kept exactly as the stages were validated with.
 #pragma once
 
-#include <vcg/space/point3.h>
-
 #include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/geometry/point.h>
 
 #include <algorithm>
 #include <array>
@@ -20,10 +19,6 @@
 
 namespace molremesh {
 
-namespace triangle_angles_detail {
-constexpr double kPi = 3.14159265358979323846;
-} // namespace triangle_angles_detail
-
 /// Smallest and largest angle (degrees) of triangle (a, b, c), by the law of cosines on the
 /// squared side lengths (one square root per corner). A corner with a zero-length side gets 0.
 inline void TriangleAngleRange(const vcg::Point3d& a, const vcg::Point3d& b, const vcg::Point3d& c,
@@ -31,19 +26,11 @@ inline void TriangleAngleRange(const vcg::Point3d& a, const vcg::Point3d& b, con
   const double la = (b - c).SquaredNorm(), lb = (c - a).SquaredNorm(), lc = (a - b).SquaredNorm();
   auto at = [](double opposite, double s1, double s2) {
     const double d = 2.0 * std::sqrt(s1 * s2);
-    return d > 0 ? std::acos(std::clamp((s1 + s2 - opposite) / d, -1.0, 1.0)) *
-                       (180.0 / triangle_angles_detail::kPi)
-                 : 0.0;
+    return d > 0 ? std::acos(std::clamp((s1 + s2 - opposite) / d, -1.0, 1.0)) * (180.0 / kPi) : 0.0;
   };
   const double A = at(la, lb, lc), B = at(lb, lc, la), C = at(lc, la, lb);
   minDeg = std::min({A, B, C});
   maxDeg = std::max({A, B, C});
-}
-
-/// A vertex position in double precision (the scalar type of the mesh may be float).
-template <class VertexType>
-vcg::Point3d PositionOf(const VertexType* v) {
-  return vcg::Point3d(double(v->cP()[0]), double(v->cP()[1]), double(v->cP()[2]));
 }
 
 /// Smallest and largest angle (degrees) of face f (TriangleAngleRange of its corners).
@@ -80,18 +67,5 @@ struct AngleTally {
     if (lo < threshold) ++small;
   }
 };
-
-/// Mean length of the face sides of m (deleted faces skipped; 0 without a face). Interior edges
-/// count twice and border edges once, so on a closed mesh it is the mean over distinct edges.
-template <class MeshType>
-double MeanEdgeLength(const MeshType& m) {
-  double sum = 0;
-  std::size_t n = 0;
-  for (const auto& f : m.face) {
-    if (f.IsD()) continue;
-    for (int e = 0; e < 3; ++e) sum += (PositionOf(f.cV(e)) - PositionOf(f.cV((e + 1) % 3))).Norm(), ++n;
-  }
-  return n ? sum / double(n) : 0.0;
-}
 
 } // namespace molremesh

@@ -51,6 +51,7 @@
 
 #include <vcg_ext/topology/face_face_topology.h>
 #include <vcg_ext/spatial/face_hash_grid.h>
+#include <vcg_ext/geometry/triangle_intersection.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/parallel_for.h>
 #include <vcg_ext/surface/reference_surface.h>
@@ -143,12 +144,12 @@ bool FacesIntersect(const std::array<Point, 3>& a, const Point& na, const std::a
   if (shared >= 2) return false;
   if (shared == 0) {
     if (SeparatedByPlane(na, a[0], b, -1, margin) || SeparatedByPlane(nb, b[0], a, -1, margin)) return false;
-    return quality_detail::TrianglesIntersect(quality_detail::MakePlanarTriangle(a[0], a[1], a[2]),
-                                              quality_detail::MakePlanarTriangle(b[0], b[1], b[2]));
+    return TrianglesIntersect(MakePlanarTriangle(a[0], a[1], a[2]),
+                                              MakePlanarTriangle(b[0], b[1], b[2]));
   }
   if (SeparatedByPlane(na, a[ca], b, cb, margin) || SeparatedByPlane(nb, b[cb], a, ca, margin)) return false;
-  return quality_detail::SharedCornerOverlap(quality_detail::MakePlanarTriangle(a[0], a[1], a[2]), ca,
-                                             quality_detail::MakePlanarTriangle(b[0], b[1], b[2]), cb);
+  return SharedCornerOverlap(MakePlanarTriangle(a[0], a[1], a[2]), ca,
+                                             MakePlanarTriangle(b[0], b[1], b[2]), cb);
 }
 
 /// Whether the star of a vertex at `center`, given as its link edges (a_i, b_i) in the faces'

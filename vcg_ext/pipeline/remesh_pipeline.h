@@ -10,6 +10,7 @@
 #include <vcg/complex/complex.h>
 
 #include <vcg_ext/topology/face_face_topology.h>
+#include <vcg_ext/geometry/mean_edge_length.h>
 
 #include <algorithm>
 #include <chrono>

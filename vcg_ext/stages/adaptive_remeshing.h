@@ -1204,16 +1204,16 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
   std::iota(measure.begin(), measure.end(), std::uint32_t(0));
   // The mesh's triangles, the same every round (the rounds only move vertices), so a hit face
   // of one round names the same face in the next.
-  std::vector<std::array<distance_detail::Index, 3>> tris;
+  std::vector<std::array<Index, 3>> tris;
   std::vector<std::size_t> faceOf, movedLastRound;
   tris.reserve(m.face.size());
   faceOf.reserve(m.face.size());
   for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
     const FaceType& f = m.face[fi];
     if (f.IsD()) continue;
-    tris.push_back({distance_detail::Index(vcg::tri::Index(m, f.cV(0))),
-                    distance_detail::Index(vcg::tri::Index(m, f.cV(1))),
-                    distance_detail::Index(vcg::tri::Index(m, f.cV(2)))});
+    tris.push_back({Index(vcg::tri::Index(m, f.cV(0))),
+                    Index(vcg::tri::Index(m, f.cV(1))),
+                    Index(vcg::tri::Index(m, f.cV(2)))});
     faceOf.push_back(fi);
   }
   for (int round = 0; round < params.snapRounds + 1 && !tris.empty(); ++round) {

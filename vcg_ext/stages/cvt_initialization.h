@@ -48,6 +48,7 @@
 #include <vcg_ext/core/input_check.h>
 #include <vcg_ext/ops/local_remeshing_ops.h>
 #include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/geometry/mean_edge_length.h>
 #include <vcg_ext/quality/quality_report_format.h>
 #include <vcg_ext/surface/reference_surface.h>
 
@@ -160,19 +161,6 @@ private:
                     vcg::CallBackPos* cb);
   static void Progress(vcg::CallBackPos* cb, double fraction, const char* what) {
     if (cb != nullptr) cb(int(std::clamp(fraction, 0.0, 1.0) * 100.0), what);
-  }
-  /// Mean length over the face sides: interior edges count twice and border edges once, which
-  /// on a closed mesh is the mean over distinct edges (MeshQuality's figure).
-  static double MeanEdgeLength(const MeshType& m) {
-    double sum = 0;
-    std::size_t count = 0;
-    for (const auto& f : m.face) {
-      if (f.IsD()) continue;
-      for (int k = 0; k < 3; ++k)
-        sum += (Ops::ToPoint(f.cV(k)->cP()) - Ops::ToPoint(f.cV((k + 1) % 3)->cP())).Norm();
-      count += 3;
-    }
-    return count > 0 ? sum / double(count) : 0.0;
   }
   static std::size_t LiveVertices(const MeshType& m) {
     std::size_t n = 0;

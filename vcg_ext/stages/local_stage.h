@@ -7,6 +7,7 @@
 #include <vcg_ext/ops/local_remeshing_ops.h>
 #include <vcg_ext/surface/reference_surface.h>
 #include <vcg_ext/geometry/triangle_angles.h>
+#include <vcg_ext/geometry/mean_edge_length.h>
 
 #include <chrono>
 #include <cmath>

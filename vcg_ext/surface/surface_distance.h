@@ -25,7 +25,9 @@
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext/core/index.h>
 #include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/geometry/point.h>
 
 #include <algorithm>
 #include <array>
@@ -64,19 +66,6 @@ struct SymmetricDistance {
 };
 
 namespace distance_detail {
-
-using Point = vcg::Point3d;
-using Index = std::uint32_t;
-
-inline bool IsFinite(const Point& p) {
-  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
-}
-
-template <class VertexType>
-Point ToPoint(const VertexType& v) {
-  const auto& c = v.cP();
-  return Point(double(c[0]), double(c[1]), double(c[2]));
-}
 
 /// Squared distance of p to the closed segment ab (a == b allowed).
 inline double SegmentDistance2(const Point& p, const Point& a, const Point& b, Point& closest) {
@@ -324,7 +313,7 @@ template <class MeshType>
 void ExtractTriangles(const MeshType& m, std::vector<Point>& points,
                       std::vector<std::array<Index, 3>>& tris) {
   points.resize(m.vert.size());
-  for (std::size_t v = 0; v < m.vert.size(); ++v) points[v] = ToPoint(m.vert[v]);
+  for (std::size_t v = 0; v < m.vert.size(); ++v) points[v] = PositionOf(&m.vert[v]);
   tris.clear();
   if (m.vert.empty()) return;
   tris.reserve(m.face.size());
@@ -533,7 +522,7 @@ std::vector<double> SurfaceDistance<MeshA, MeshB>::VertexDistances(const MeshA& 
   std::vector<Point> queries;
   std::vector<std::size_t> where;
   for (std::size_t v = 0; v < a.vert.size(); ++v) {
-    const Point p = ToPoint(a.vert[v]);
+    const Point p = PositionOf(&a.vert[v]);
     if (a.vert[v].IsD() || !IsFinite(p)) continue;
     queries.push_back(p);
     where.push_back(v);
