@@ -12,7 +12,8 @@ tables of what each stage reached, from the CLI's --json report:
 usage: pipeline_table.py [--build-dir BUILD] [--meshes a.ply,b.ply] [--stages LIST] [--out FILE]
                          [--json FILE] [--tetgen]
 
-The numbers in README.md come from `python3 benchmarks/pipeline_table.py --tetgen`.
+The tables go to docs/results/pipeline-<stages>.md (--out); the raw stage reports only with --json
+(raw figures are not committed: give a path outside the source tree, such as build/benchmarks/).
 """
 import argparse
 import json
@@ -61,10 +62,15 @@ def main():
     ap.add_argument("--build-dir", default=os.path.join(REPO, "build"))
     ap.add_argument("--meshes", default="", help="comma-separated file names in ../shared/data/meshes")
     ap.add_argument("--stages", default="", help="--stages of molremesh remesh (default: all)")
-    ap.add_argument("--out", default="", help="also write the tables to this file")
+    ap.add_argument("--out", help="Markdown file written with the tables (default: "
+                                  "docs/results/pipeline-<stages>.md, pipeline-full.md without --stages); "
+                                  "'-' to print them only")
     ap.add_argument("--json", default="", help="also write every stage report to this file")
     ap.add_argument("--tetgen", action="store_true", help="run tetgen -pq1.4 on every output")
     args = ap.parse_args()
+    if args.out is None:
+        name = "pipeline-%s.md" % (args.stages.replace(",", "-") if args.stages else "full")
+        args.out = os.path.join(REPO, "docs", "results", name)
 
     cli = os.path.join(args.build_dir, "cli", "molremesh")
     if not os.path.exists(cli):
@@ -141,7 +147,7 @@ def main():
                                              " | ".join(fmt(st.get(n)) for n in stage_names), e["run"]["seconds"]))
     text = "\n".join(lines) + "\n"
     print(text)
-    if args.out:
+    if args.out != "-":
         with open(args.out, "w") as f:
             f.write(text)
     if args.json:

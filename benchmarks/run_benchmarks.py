@@ -20,8 +20,9 @@ TetGen (`tetgen -pq1.4` on an OFF copy, with a timeout): "TetGen ok" means TetGe
 quality tetrahedral mesh bounded by the surface.
 
 Prints one Markdown table per mesh and a summary table per method, and writes them to --out
-(default benchmarks/RESULTS.md) so that the README can include the file; --json keeps the raw
-figures. Python 3 standard library only.
+(default docs/results/RESULTS.md, the committed result tables); the raw figures go to --json
+(default <build-dir>/benchmarks/<name of --out>.json, outside the source tree, where --reuse-json
+and --from-json can read them back). Python 3 standard library only.
 """
 
 import argparse
@@ -406,7 +407,7 @@ def algorithm_seconds(method, run, tools, args, mesh, work):
 
 def add_changes(row, input_report, cleaned_report):
     """Area and volume change of the row's output against the raw input and against the cleaned one
-    (the surface molremesh remeshes: the issues bound the volume against it)."""
+    (the surface molremesh remeshes: the pipeline bounds the volume change against it)."""
     out = row.get("report") or {}
     for key, column in (("area", "area_change"), ("volume", "volume_change")):
         for reference, suffix in ((input_report, "_percent"), (cleaned_report, "_cleaned_percent")):
@@ -674,7 +675,7 @@ def describe_run(args, methods):
         "against the input after molremesh's stage 0 alone (`molremesh remesh IN OUT --stages clean`: repaired, "
         "holes closed, components under 1 % of the faces dropped), for every method; area change = surface area, "
         "output vs input; volume change = signed enclosed volume, output vs input; *cleaned* beside them = the "
-        "same against that cleaned input (the surface molremesh remeshes; the issues bound its volume change "
+        "same against that cleaned input (the surface molremesh remeshes; the pipeline bounds its volume change "
         "against it); TetGen ok = `tetgen -pq1.4` builds a tetrahedral mesh of the output (timeout "
         "{timeout} s). "
         "Quality figures come from `molremesh report --json`.".replace("{timeout}", "%.0f" % args.tetgen_timeout),
@@ -769,9 +770,10 @@ def main():
     p.add_argument("--meshes", nargs="+", default=[], help="meshes (same as the positional arguments)")
     p.add_argument("--data-dir", default=DEFAULT_DATA, help="folder of the default meshes (%(default)s)")
     p.add_argument("--build-dir", default=os.path.join(REPO, "build"), help="CMake build folder (%(default)s)")
-    p.add_argument("--out", default=os.path.join(REPO, "benchmarks", "RESULTS.md"),
+    p.add_argument("--out", default=os.path.join(REPO, "docs", "results", "RESULTS.md"),
                    help="Markdown file written with the tables (%(default)s); '-' for none")
-    p.add_argument("--json", help="also write the raw figures to this JSON file")
+    p.add_argument("--json", help="JSON file written with the raw figures (default: BUILD/benchmarks/ and the "
+                                  "name of --out with .json; raw figures are not committed); '-' for none")
     p.add_argument("--skip-cgal", action="store_true")
     p.add_argument("--skip-meshlab", action="store_true")
     p.add_argument("--skip-molremesh", action="store_true")
@@ -796,6 +798,10 @@ def main():
                                                                            "(%(default)s; 'input': the input's "
                                                                            "TetGen result)")
     args = p.parse_args()
+    json_by_default = args.json is None
+    if json_by_default:
+        stem = os.path.splitext(os.path.basename(args.out))[0] if args.out != "-" else "RESULTS"
+        args.json = os.path.join(args.build_dir, "benchmarks", stem + ".json")
     signal.signal(signal.SIGTERM, _stop)
     signal.signal(signal.SIGINT, _stop)
 
@@ -856,9 +862,11 @@ def main():
         with open(args.out, "w") as f:
             f.write("\n".join(parts))
         print("run_benchmarks: tables written to %s" % args.out, file=sys.stderr)
-    if args.json:
+    if args.json != "-" and not (args.from_json and json_by_default):
+        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
         with open(args.json, "w") as f:
             json.dump(portable_results(results), f, indent=1)
+        print("run_benchmarks: raw figures written to %s" % args.json, file=sys.stderr)
     return 0
 
 

@@ -13,7 +13,8 @@ V567, obtuse faces, self-intersections, boundary, components, genus, TetGen, the
 the CLI's warnings (its verdict), time and peak memory.
 
 Needs Debian's edtsurf and python3-pymol (scripts/install_deps.sh --unseen) and tetgen for the
-TetGen column. Writes benchmarks/RESULTS-unseen.md (--out) and the raw figures (--json).
+TetGen column. Writes docs/results/RESULTS-unseen.md (--out) and the raw figures (--json, by
+default under the build folder).
 """
 
 import argparse
@@ -176,9 +177,13 @@ def main():
     p.add_argument("--stage3", action="store_true", help="also run clean,cvt,segment,rar")
     p.add_argument("--timeout", type=float, default=3600)
     p.add_argument("--tetgen-timeout", type=float, default=1200)
-    p.add_argument("--out", default=os.path.join(REPO, "benchmarks", "RESULTS-unseen.md"))
-    p.add_argument("--json", default=os.path.join(REPO, "benchmarks", "RESULTS-unseen.json"))
+    p.add_argument("--out", default=os.path.join(REPO, "docs", "results", "RESULTS-unseen.md"),
+                   help="Markdown file written with the tables (%(default)s)")
+    p.add_argument("--json", help="JSON file written with the raw figures (default: "
+                                  "BUILD/benchmarks/RESULTS-unseen.json; raw figures are not committed)")
     args = p.parse_args()
+    if args.json is None:
+        args.json = os.path.join(args.build_dir, "benchmarks", "RESULTS-unseen.json")
     for tool in ("EDTSurf", "tetgen"):
         if not shutil.which(tool):
             print("unseen_inputs: %s not found (Debian packages edtsurf, tetgen: scripts/install_deps.sh "
@@ -217,6 +222,7 @@ def main():
             text.append("- %s (%s): %s" % (r["name"], r["mode"], w.split(": ", 2)[-1].split(" ", 1)[-1]))
     with open(args.out, "w") as f:
         f.write("\n".join(text) + "\n")
+    os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
     with open(args.json, "w") as f:
         json.dump([compact(r, work) for r in results], f, indent=1)
     print("\n".join(text))
