@@ -68,6 +68,7 @@
 #include <vcg/complex/complex.h>
 
 #include <vcg_ext/core/input_check.h>
+#include <vcg_ext/geometry/point.h>
 #include <vcg_ext/ops/local_remeshing_ops.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/parallel_for.h>
@@ -288,6 +289,33 @@ public:
 
 private:
   class Session;
+
+  // Pieces of SnapToInputVertices.
+
+  /// Whether a triangle with angles in [smallest, largest] lies in the snap guards' range.
+  static bool InSnapRange(const LocalOpsGuards& snapGuards, double smallest, double largest) {
+    return smallest >= snapGuards.minAngleDeg && largest <= snapGuards.maxAngleDeg;
+  }
+  /// Distance from p to the faces around v with v moved to q; infinite when one of these faces
+  /// would leave the snap guards' range (a partial move is locked through the repair pass, so it
+  /// must leave good triangles, not merely better ones).
+  static double SnapStarDistance(const LocalOpsGuards& snapGuards, VertexPointer v, const Point& q,
+                                 const Point& p);
+  /// Whether every face around v and around its neighbours has its angles in the snap guards'
+  /// range: a partial move, locked through the repair, must not sit in a region the repair has
+  /// still to fix.
+  static bool SnapCalmAround(const LocalOpsGuards& snapGuards, VertexPointer v);
+  /// The mesh's live triangles (vertex indices) and the index in m.face of each: the same every
+  /// snap round (the rounds only move vertices), so a hit face of one round names the same face
+  /// in the next.
+  static void CollectSnapTriangles(MeshType& m, std::vector<std::array<Index, 3>>& tris,
+                                   std::vector<std::size_t>& faceOf);
+  /// Exact distances of the reference vertices measure[k] to the current mesh (its triangles
+  /// `tris`), and the closest triangle of each (an index in tris), computed in parallel.
+  static void MeasureInputDistances(const MeshType& m, const Reference& ref,
+                                    const std::vector<std::array<Index, 3>>& tris,
+                                    const std::vector<std::uint32_t>& measure, int threads,
+                                    std::vector<double>& distance, std::vector<long long>& hitFace);
 };
 
 // ------------------------------------------------------------------------------------------------
@@ -295,9 +323,6 @@ private:
 // ------------------------------------------------------------------------------------------------
 
 namespace rar_detail {
-
-using Point = vcg::Point3d;
-constexpr double kPi = 3.14159265358979323846;
 
 inline double AngleAt(const Point& apex, const Point& a, const Point& b) {
   const Point u = a - apex, v = b - apex;
@@ -330,7 +355,7 @@ void AdaptiveRemeshing<MeshType>::TriangleShape(const Point& a, const Point& b, 
 
 template <class MeshType>
 double AdaptiveRemeshing<MeshType>::MaxAbsCurvature(const VertexType& v) {
-  const Point p = Ops::ToPoint(v.cP());
+  const Point p = PositionOf(&v);
   Point n(0, 0, 0);
   // Area-weighted normal and the neighbours (each once: the next corner of every face, plus the
   // previous corner across a border edge).
@@ -339,7 +364,7 @@ double AdaptiveRemeshing<MeshType>::MaxAbsCurvature(const VertexType& v) {
   for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&v)); !it.End(); ++it) {
     const FaceType* f = it.F();
     const int k = it.I();
-    const Point a = Ops::ToPoint(f->cV((k + 1) % 3)->cP()), b = Ops::ToPoint(f->cV((k + 2) % 3)->cP());
+    const Point a = PositionOf(f->cV((k + 1) % 3)), b = PositionOf(f->cV((k + 2) % 3));
     n += (a - p) ^ (b - p);
     if (count < int(nb.size())) nb[count++] = a;
     if (f->cFFp((k + 2) % 3) == f && count < int(nb.size())) nb[count++] = b;
@@ -488,7 +513,7 @@ private:
   };
 
   std::size_t VIndex(const VertexType* v) const { return std::size_t(v - &m_.vert[0]); }
-  Point Pos(const VertexType* v) const { return Ops::ToPoint(v->cP()); }
+  Point Pos(const VertexType* v) const { return PositionOf(v); }
   bool Allowed(const Point& p) const { return !allowed_ || allowed_(p); }
   void Grow() {
     if (sizing_.size() < m_.vert.size()) sizing_.resize(m_.vert.size(), L0_);
@@ -759,7 +784,7 @@ private:
       int roundFoot = -1;
       double roundScore = bestScore;
       for (int k = 0; k < 8; ++k) {
-        const double angle = k * (rar_detail::kPi / 4.0);
+        const double angle = k * (kPi / 4.0);
         const Point q = best + (e1 * std::cos(angle) + e2 * std::sin(angle)) * h;
         const SurfaceProjection proj = ref_.Project(q, bestFoot, scratch_[0]);
         if (!proj.ok()) continue;
@@ -1044,8 +1069,8 @@ double AdaptiveRemeshing<MeshType>::RestoreVolume(Ops& ops, double maxOffset, do
     for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
       const FaceType& f = m.face[fi];
       if (f.IsD()) continue;
-      const Point p0 = Ops::ToPoint(f.cV(0)->cP()) - origin, p1 = Ops::ToPoint(f.cV(1)->cP()) - origin,
-                  p2 = Ops::ToPoint(f.cV(2)->cP()) - origin;
+      const Point p0 = PositionOf(f.cV(0)) - origin, p1 = PositionOf(f.cV(1)) - origin,
+                  p2 = PositionOf(f.cV(2)) - origin;
       const Point cross = (p1 - p0) ^ (p2 - p0);
       const std::size_t c = std::size_t(component[fi]);
       volume[c] += (p0 * (p1 ^ p2)) / 6.0;
@@ -1084,7 +1109,7 @@ double AdaptiveRemeshing<MeshType>::RestoreVolume(Ops& ops, double maxOffset, do
       for (std::size_t i = begin; i < end; ++i) {
         const VertexType& v = m.vert[vertices[i]];
         const Point n = normal[vertices[i]] / normal[vertices[i]].Norm();
-        const Point p = Ops::ToPoint(v.cP());
+        const Point p = PositionOf(&v);
         const SurfaceProjection proj = reference.Project(p, ops.Footpoint(v), scratch[std::size_t(t)]);
         const double now = proj.ok() ? (p - proj.point) * n : 0.0;
         const double want =
@@ -1136,6 +1161,73 @@ AdaptiveRemeshingStats AdaptiveRemeshing<MeshType>::Finalize(Ops& ops, std::vect
 }
 
 template <class MeshType>
+double AdaptiveRemeshing<MeshType>::SnapStarDistance(const LocalOpsGuards& snapGuards, VertexPointer v,
+                                                     const Point& q, const Point& p) {
+  double best2 = std::numeric_limits<double>::infinity();
+  for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it) {
+    std::array<Point, 3> corner;
+    for (int k = 0; k < 3; ++k) corner[k] = it.F()->V(k) == v ? q : PositionOf(it.F()->cV(k));
+    double smallest = 0, largest = 0;
+    TriangleAngleRange(corner[0], corner[1], corner[2], smallest, largest);
+    if (!InSnapRange(snapGuards, smallest, largest)) return std::numeric_limits<double>::infinity();
+    Point closest;
+    best2 = std::min(best2, distance_detail::TriangleDistance2(p, corner[0], corner[1], corner[2], closest));
+  }
+  return std::sqrt(best2);
+}
+
+template <class MeshType>
+bool AdaptiveRemeshing<MeshType>::SnapCalmAround(const LocalOpsGuards& snapGuards, VertexPointer v) {
+  const auto calm = [&](VertexPointer u) {
+    for (vcg::face::VFIterator<FaceType> it(u); !it.End(); ++it) {
+      double smallest = 0, largest = 0;
+      FaceAngleRange(*it.F(), smallest, largest);
+      if (!InSnapRange(snapGuards, smallest, largest)) return false;
+    }
+    return true;
+  };
+  for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it)
+    if (!calm(it.F()->V1(it.I()))) return false;
+  return calm(v);
+}
+
+template <class MeshType>
+void AdaptiveRemeshing<MeshType>::CollectSnapTriangles(MeshType& m, std::vector<std::array<Index, 3>>& tris,
+                                                       std::vector<std::size_t>& faceOf) {
+  tris.reserve(m.face.size());
+  faceOf.reserve(m.face.size());
+  for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
+    const FaceType& f = m.face[fi];
+    if (f.IsD()) continue;
+    tris.push_back({Index(vcg::tri::Index(m, f.cV(0))), Index(vcg::tri::Index(m, f.cV(1))),
+                    Index(vcg::tri::Index(m, f.cV(2)))});
+    faceOf.push_back(fi);
+  }
+}
+
+template <class MeshType>
+void AdaptiveRemeshing<MeshType>::MeasureInputDistances(const MeshType& m, const Reference& ref,
+                                                        const std::vector<std::array<Index, 3>>& tris,
+                                                        const std::vector<std::uint32_t>& measure,
+                                                        int threads, std::vector<double>& distance,
+                                                        std::vector<long long>& hitFace) {
+  using distance_detail::TriangleGrid;
+  std::vector<Point> points(m.vert.size());
+  for (std::size_t i = 0; i < m.vert.size(); ++i) points[i] = PositionOf(&m.vert[i]);
+  TriangleGrid grid;
+  grid.Build(std::move(points), tris, threads);
+  std::vector<TriangleGrid::QueryScratch> scratch(static_cast<std::size_t>(threads));
+  ParallelFor(measure.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const std::uint32_t i = measure[k];
+      const TriangleGrid::Hit hit = grid.Closest(ref.Vertex(i), scratch[std::size_t(t)]);
+      distance[i] = hit.distance;
+      hitFace[i] = hit.face;
+    }
+  });
+}
+
+template <class MeshType>
 std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Params& params, int threads,
                                                              std::vector<std::uint8_t>& snapped) {
   MeshType& m = ops.Mesh();
@@ -1150,47 +1242,9 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
   const LocalOpsGuards saved = ops.Guards();
   const LocalOpsGuards &snapGuards = params.snapGuards, &looseGuards = params.snapLooseGuards;
   ops.SetGuards(snapGuards);
-  using distance_detail::TriangleGrid;
   std::size_t moves = 0;
   std::vector<double> distance(ref.VertexCount());
   std::vector<long long> hitFace(ref.VertexCount());
-  // Whether a triangle with angles in [smallest, largest] lies in the snap guards' range.
-  const auto InSnapRange = [&](double smallest, double largest) {
-    return smallest >= snapGuards.minAngleDeg && largest <= snapGuards.maxAngleDeg;
-  };
-  // Distance from p to the faces around v with v moved to q; infinite when one of these faces
-  // would leave the snap guards' range (a partial move is locked through the repair pass, so it
-  // must leave good triangles, not merely better ones).
-  const auto StarDistance = [&](VertexPointer v, const Point& q, const Point& p) {
-    double best2 = std::numeric_limits<double>::infinity();
-    for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it) {
-      std::array<Point, 3> corner;
-      for (int k = 0; k < 3; ++k) corner[k] = it.F()->V(k) == v ? q : Ops::ToPoint(it.F()->cV(k)->cP());
-      double smallest = 0, largest = 0;
-      TriangleAngleRange(corner[0], corner[1], corner[2], smallest, largest);
-      if (!InSnapRange(smallest, largest)) return std::numeric_limits<double>::infinity();
-      Point closest;
-      best2 =
-          std::min(best2, distance_detail::TriangleDistance2(p, corner[0], corner[1], corner[2], closest));
-    }
-    return std::sqrt(best2);
-  };
-  // Whether every face around v and around its neighbours has its angles in the snap guards'
-  // range: a partial move, locked through the repair, must not sit in a region the repair has
-  // still to fix.
-  const auto CalmAround = [&](VertexPointer v) {
-    const auto calm = [&](VertexPointer u) {
-      for (vcg::face::VFIterator<FaceType> it(u); !it.End(); ++it) {
-        double smallest = 0, largest = 0;
-        FaceAngleRange(*it.F(), smallest, largest);
-        if (!InSnapRange(smallest, largest)) return false;
-      }
-      return true;
-    };
-    for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it)
-      if (!calm(it.F()->V1(it.I()))) return false;
-    return calm(v);
-  };
   const std::vector<double> kFullFraction{1.0},
       kPartialFractions{0.75, 0.5};   // of the way to the input vertex
   constexpr double partialGain = 0.8; // a partial move must cut the distance by 20 % at least
@@ -1206,16 +1260,7 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
   // of one round names the same face in the next.
   std::vector<std::array<Index, 3>> tris;
   std::vector<std::size_t> faceOf, movedLastRound;
-  tris.reserve(m.face.size());
-  faceOf.reserve(m.face.size());
-  for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
-    const FaceType& f = m.face[fi];
-    if (f.IsD()) continue;
-    tris.push_back({Index(vcg::tri::Index(m, f.cV(0))),
-                    Index(vcg::tri::Index(m, f.cV(1))),
-                    Index(vcg::tri::Index(m, f.cV(2)))});
-    faceOf.push_back(fi);
-  }
+  CollectSnapTriangles(m, tris, faceOf);
   for (int round = 0; round < params.snapRounds + 1 && !tris.empty(); ++round) {
     if (round > 0) {
       std::vector<std::uint8_t> touched(m.face.size(), 0);
@@ -1228,20 +1273,7 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
           measure.push_back(std::uint32_t(i));
       movedLastRound.clear();
     }
-    // Exact distances of the reference vertices to the current mesh.
-    std::vector<Point> points(m.vert.size());
-    for (std::size_t i = 0; i < m.vert.size(); ++i) points[i] = Ops::ToPoint(m.vert[i].cP());
-    TriangleGrid grid;
-    grid.Build(std::move(points), tris, threads);
-    std::vector<TriangleGrid::QueryScratch> scratch(static_cast<std::size_t>(threads));
-    ParallelFor(measure.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
-      for (std::size_t k = begin; k < end; ++k) {
-        const std::uint32_t i = measure[k];
-        const TriangleGrid::Hit hit = grid.Closest(ref.Vertex(i), scratch[std::size_t(t)]);
-        distance[i] = hit.distance;
-        hitFace[i] = hit.face;
-      }
-    });
+    MeasureInputDistances(m, ref, tris, measure, threads, distance, hitFace);
     std::vector<std::pair<double, std::uint32_t>> far;
     for (std::size_t i = 0; i < distance.size(); ++i)
       if (distance[i] > tolerance && hitFace[i] >= 0) far.emplace_back(-distance[i], std::uint32_t(i));
@@ -1258,11 +1290,11 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
       const Point p = ref.Vertex(i);
       FaceType& f = m.face[fi];
       Point closest;
-      const double now2 = distance_detail::TriangleDistance2(
-          p, Ops::ToPoint(f.cV(0)->cP()), Ops::ToPoint(f.cV(1)->cP()), Ops::ToPoint(f.cV(2)->cP()), closest);
+      const double now2 = distance_detail::TriangleDistance2(p, PositionOf(f.cV(0)), PositionOf(f.cV(1)),
+                                                             PositionOf(f.cV(2)), closest);
       if (!(now2 > tolerance * tolerance)) continue; // an earlier move fixed it
       std::array<std::pair<double, int>, 3> order;
-      for (int k = 0; k < 3; ++k) order[k] = {(Ops::ToPoint(f.cV(k)->cP()) - p).SquaredNorm(), k};
+      for (int k = 0; k < 3; ++k) order[k] = {(PositionOf(f.cV(k)) - p).SquaredNorm(), k};
       std::sort(order.begin(), order.end());
       // Onto the input vertex first; where the angle guards refuse that on every corner, part of
       // the way (the cusp is then cut by a shorter chord), when that brings the star of the
@@ -1284,11 +1316,11 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
               ops.SetGuards(snapGuards);
             }
           } else {
-            if (!CalmAround(v)) continue;
-            const Point start = Ops::ToPoint(v->cP());
+            if (!SnapCalmAround(snapGuards, v)) continue;
+            const Point start = PositionOf(v);
             const SurfaceProjection target = ref.Project(start + (p - start) * fraction, ops.Footpoint(*v));
-            const double reached =
-                target.ok() ? StarDistance(v, target.point, p) : std::numeric_limits<double>::infinity();
+            const double reached = target.ok() ? SnapStarDistance(snapGuards, v, target.point, p)
+                                               : std::numeric_limits<double>::infinity();
             if (!(reached < partialGain * std::sqrt(now2))) continue;
             // Not at the expense of another input point: none may end farther than p now is.
             LocalOpsGuards partialGuards = snapGuards;

@@ -34,6 +34,7 @@
 
 #include <vcg_ext/topology/face_face_topology.h>
 #include <vcg_ext/core/input_check.h>
+#include <vcg_ext/geometry/point.h>
 #include <vcg_ext/ops/local_remeshing_ops.h>
 #include <vcg_ext/stages/local_stage.h>
 #include <vcg_ext/surface/reference_surface.h>
@@ -132,21 +133,18 @@ public:
     }
     LocalOpsGuards guards = params.guards;
     guards.minAngleDeg = params.minAngleDeg;
-    Ops ops(m, reference, L, guards, params.threads);
-    if (!ops.Init(&error, false, true, /*lazyFootpoints=*/true)) return finish(false, refused + error);
-    Session session(ops, params, L);
-    session.Run(r);
-    r.refused = ops.Stats().Refused();
-    ops.Finish();
-    UpdateAdjacency(m);
+    const auto edits = [&](Ops& ops) {
+      Session session(ops, params, L);
+      session.Run(r);
+    };
+    if (!RunLocalEdits(m, reference, L, guards, params.threads, error, r.refused, edits))
+      return finish(false, refused + error);
     r.badAfter = Measure(m, params, r.smallAfter, r.obtuseAfter, r.angleMinAfter, r.angleMaxAfter);
     return finish(true, "local smoothing: " + std::to_string(r.badBefore) + " -> " +
                             std::to_string(r.badAfter) + " bad faces");
   }
 
 private:
-  static Point P(const VertexType* v) { return Ops::ToPoint(v->cP()); }
-
   static std::size_t Measure(const MeshType& m, const Params& p, std::size_t& small, std::size_t& obtuse,
                              double& angleMin, double& angleMax) {
     std::size_t bad = 0;
@@ -251,7 +249,7 @@ private:
 
     Shape FaceShape(const FaceType& f) const {
       Shape s;
-      s.Add(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), params_);
+      s.Add(PositionOf(f.cV(0)), PositionOf(f.cV(1)), PositionOf(f.cV(2)), params_);
       return s;
     }
     double MinAngle(const FaceType& f) const { return FaceShape(f).minDeg; }
@@ -280,22 +278,20 @@ private:
     }
 
     Shape StarShape(const VertexType* v, const Point& q) const {
-      Shape s;
-      for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(v)); !it.End(); ++it)
-        s.Add(q, P(it.F()->cV((it.I() + 1) % 3)), P(it.F()->cV((it.I() + 2) % 3)), params_);
-      return s;
+      return StarShapeAt<Shape, FaceType>(v, q, params_);
     }
 
     bool Laplacian(std::size_t vi) {
       ops_.EnsureFootpointsAround(m_.vert[vi]); // lazy footpoints (Init)
 
       VertexType& v = m_.vert[vi];
-      if (v.IsD() || v.VFp() == nullptr || ops_.IsLocked(v) || ops_.IsBoundaryVertex(v)) return false;
-      const Point p0 = P(&v);
+      if (!IsFreeVertex(ops_, v)) return false;
+      const Point p0 = PositionOf(&v);
       Point c(0, 0, 0), n(0, 0, 0);
       int count = 0;
       for (vcg::face::VFIterator<FaceType> it(&v); !it.End(); ++it) {
-        const Point a = P(it.F()->cV((it.I() + 1) % 3)), b = P(it.F()->cV((it.I() + 2) % 3));
+        const Point a = PositionOf(it.F()->cV((it.I() + 1) % 3)),
+                    b = PositionOf(it.F()->cV((it.I() + 2) % 3));
         c += a;
         n += (a - p0) ^ (b - p0);
         ++count;
@@ -321,16 +317,9 @@ private:
       int bestEdge = -1;
       Shape best;
       for (int z = 0; z < 3; ++z) {
-        const FaceType* g = f.cFFp(z);
-        if (g == &f) continue;
-        const int w = f.cFFi(z);
-        const Point p0 = P(f.cV(z)), p1 = P(f.cV((z + 1) % 3)), p2 = P(f.cV((z + 2) % 3)),
-                    p3 = P(g->cV((w + 2) % 3));
+        if (f.cFFp(z) == &f) continue;
         Shape before, after;
-        before.Add(p0, p1, p2, params_);
-        before.Add(p1, p0, p3, params_);
-        after.Add(p0, p3, p2, params_);
-        after.Add(p1, p2, p3, params_);
+        FlipShapes(EdgeQuad(f, z), params_, before, after);
         if (!Improves(before, after)) continue;
         if (bestEdge < 0 || after.bad < best.bad || (after.bad == best.bad && after.excess < best.excess))
           bestEdge = z, best = after;
@@ -343,23 +332,19 @@ private:
       ops_.EnsureFootpointsAround(m_.face[fi]); // lazy footpoints (Init)
 
       FaceType& f = m_.face[fi];
-      int z = 0;
-      double shortest = std::numeric_limits<double>::infinity();
-      for (int k = 0; k < 3; ++k) {
-        const double l = (P(f.cV(k)) - P(f.cV((k + 1) % 3))).SquaredNorm();
-        if (l < shortest) shortest = l, z = k;
-      }
+      const int z = ShortestEdgeIndex(f);
       VertexPointer a = f.V(z), b = f.V((z + 1) % 3);
       if (ops_.IsBoundaryVertex(*a) || ops_.IsBoundaryVertex(*b)) return false;
       Shape before;
       for (VertexPointer v : {a, b})
         for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it)
           if (v == a || !(it.F()->cV(0) == a || it.F()->cV(1) == a || it.F()->cV(2) == a))
-            before.Add(P(it.F()->cV(0)), P(it.F()->cV(1)), P(it.F()->cV(2)), params_);
+            before.Add(PositionOf(it.F()->cV(0)), PositionOf(it.F()->cV(1)), PositionOf(it.F()->cV(2)),
+                       params_);
       int bestKeep = -1;
       Shape best;
       for (int keep = 0; keep < 2; ++keep) {
-        const Point q = keep == 0 ? P(a) : P(b);
+        const Point q = keep == 0 ? PositionOf(a) : PositionOf(b);
         Shape s;
         for (VertexPointer v : {a, b})
           for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it) {
@@ -368,7 +353,7 @@ private:
             const bool hasB = g->cV(0) == b || g->cV(1) == b || g->cV(2) == b;
             if (hasA && hasB) continue; // removed by the collapse
             std::array<Point, 3> p;
-            for (int c = 0; c < 3; ++c) p[c] = (g->cV(c) == a || g->cV(c) == b) ? q : P(g->cV(c));
+            for (int c = 0; c < 3; ++c) p[c] = (g->cV(c) == a || g->cV(c) == b) ? q : PositionOf(g->cV(c));
             s.Add(p[0], p[1], p[2], params_);
           }
         if (!Improves(before, s)) continue;
@@ -391,14 +376,12 @@ private:
       int z = 0;
       double longest = -1;
       for (int k = 0; k < 3; ++k) {
-        const double l = (P(f.cV(k)) - P(f.cV((k + 1) % 3))).SquaredNorm();
+        const double l = (PositionOf(f.cV(k)) - PositionOf(f.cV((k + 1) % 3))).SquaredNorm();
         if (l > longest) longest = l, z = k;
       }
       const FaceType* g = f.cFFp(z);
       if (g == &f) return -1;
-      const int w = f.cFFi(z);
-      const Point p0 = P(f.cV(z)), p1 = P(f.cV((z + 1) % 3)), p2 = P(f.cV((z + 2) % 3)),
-                  p3 = P(g->cV((w + 2) % 3));
+      const auto [p0, p1, p2, p3] = EdgeQuad(f, z);
       // The midpoint exactly where SplitEdge puts it.
       const SurfaceProjection proj = ref_.Project((p0 + p1) * 0.5, ops_.Footpoint(*f.cV(z)), scratch_);
       if (!proj.ok()) return -1;

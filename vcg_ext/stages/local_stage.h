@@ -1,16 +1,26 @@
-// What the local stages (small-angle elimination, obtuse reduction, local smoothing) share around
-// their Do(): the guards they start from, the checks before any edit and the timing of their
-// Result. Their algorithms stay in their own headers; this is only the common frame, so the three
-// refuse the same inputs with the same words and time themselves the same way.
+// What the local stages (small-angle elimination, obtuse reduction, local smoothing) share: around
+// their Do() the guards they start from, the checks before any edit, the run of their edits
+// through LocalRemeshingOps and the timing of their Result; inside their sessions the small
+// geometric pieces they all evaluate the same way (the shape of a vertex star, the two triangles
+// of a flip, the shortest edge of a face, a tangent basis, which vertices are free to move). Their
+// algorithms stay in their own headers, so the three refuse the same inputs with the same words,
+// time themselves the same way and measure a star with one piece of code.
 #pragma once
 
 #include <vcg_ext/ops/local_remeshing_ops.h>
+#include <vcg_ext/topology/face_face_topology.h>
 #include <vcg_ext/surface/reference_surface.h>
 #include <vcg_ext/geometry/triangle_angles.h>
 #include <vcg_ext/geometry/mean_edge_length.h>
+#include <vcg_ext/geometry/point.h>
 
+#include <vcg/simplex/face/pos.h>
+
+#include <array>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
+#include <limits>
 #include <string>
 
 namespace molremesh {
@@ -53,6 +63,76 @@ bool PrepareLocalStage(MeshType& m, const ReferenceSurface<MeshType>& reference,
     why = "no valid target edge length";
     return false;
   }
+  return true;
+}
+
+/// The shape of the star of v (the faces around it, from the VF adjacency) with v moved to q:
+/// Shape::Add(q, next corner, previous corner, bound) for each face, in VF order.
+template <class Shape, class FaceType, class VertexType, class Bound>
+Shape StarShapeAt(const VertexType* v, const Point& q, const Bound& bound) {
+  Shape s;
+  for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(v)); !it.End(); ++it)
+    s.Add(q, PositionOf(it.F()->cV((it.I() + 1) % 3)), PositionOf(it.F()->cV((it.I() + 2) % 3)), bound);
+  return s;
+}
+
+/// Index z of the shortest edge (z, z+1) of f; the first one on ties.
+template <class FaceType>
+int ShortestEdgeIndex(const FaceType& f) {
+  int z = 0;
+  double shortest = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 3; ++k) {
+    const double l = (PositionOf(f.cV(k)) - PositionOf(f.cV((k + 1) % 3))).SquaredNorm();
+    if (l < shortest) shortest = l, z = k;
+  }
+  return z;
+}
+
+/// An orthonormal basis (e1, e2) of the plane orthogonal to the unit normal n.
+inline void TangentBasis(const Point& n, Point& e1, Point& e2) {
+  e1 = std::fabs(n[0]) < 0.9 ? Point(1, 0, 0) ^ n : Point(0, 1, 0) ^ n;
+  e1.Normalize();
+  e2 = n ^ e1;
+}
+
+/// The corners around edge z of f and its neighbour g across it: {f's V(z), f's V(z+1), f's
+/// corner opposite the edge, g's corner opposite the edge}. f must not be a border along z.
+template <class FaceType>
+std::array<Point, 4> EdgeQuad(const FaceType& f, int z) {
+  const FaceType* g = f.cFFp(z);
+  const int w = f.cFFi(z);
+  return {PositionOf(f.cV(z)), PositionOf(f.cV((z + 1) % 3)), PositionOf(f.cV((z + 2) % 3)),
+          PositionOf(g->cV((w + 2) % 3))};
+}
+
+/// The shapes of the two triangles of quad q (EdgeQuad) before and after flipping its edge.
+template <class Shape, class Bound>
+void FlipShapes(const std::array<Point, 4>& q, const Bound& bound, Shape& before, Shape& after) {
+  before.Add(q[0], q[1], q[2], bound);
+  before.Add(q[1], q[0], q[3], bound);
+  after.Add(q[0], q[3], q[2], bound);
+  after.Add(q[1], q[2], q[3], bound);
+}
+
+/// Whether a local stage may move or delete v: alive, in a face, neither locked nor on a border.
+template <class Ops, class VertexType>
+bool IsFreeVertex(Ops& ops, VertexType& v) {
+  return !(v.IsD() || v.VFp() == nullptr || ops.IsLocked(v) || ops.IsBoundaryVertex(v));
+}
+
+/// Runs a local stage's edits on m: LocalRemeshingOps with `guards` (lazy footpoints), then
+/// body(ops), then the number of edits the guards refused into `refused`, the ops' Finish and the
+/// adjacency recomputed. False with `error` when the ops cannot start (m untouched).
+template <class MeshType, class Body>
+bool RunLocalEdits(MeshType& m, const ReferenceSurface<MeshType>& reference, double L,
+                   const LocalOpsGuards& guards, int threads, std::string& error, std::size_t& refused,
+                   Body&& body) {
+  LocalRemeshingOps<MeshType> ops(m, reference, L, guards, threads);
+  if (!ops.Init(&error, false, true, /*lazyFootpoints=*/true)) return false;
+  body(ops);
+  refused = ops.Stats().Refused();
+  ops.Finish();
+  UpdateAdjacency(m);
   return true;
 }
 

@@ -41,6 +41,7 @@
 
 #include <vcg_ext/topology/face_face_topology.h>
 #include <vcg_ext/core/input_check.h>
+#include <vcg_ext/geometry/point.h>
 #include <vcg_ext/ops/local_remeshing_ops.h>
 #include <vcg_ext/stages/local_stage.h>
 #include <vcg_ext/surface/reference_surface.h>
@@ -147,22 +148,18 @@ public:
     }
     LocalOpsGuards guards = params.guards;
     guards.minAngleDeg = params.minAngleDeg;
-    Ops ops(m, reference, L, guards, params.threads);
-    if (!ops.Init(&error, false, true, /*lazyFootpoints=*/true)) return finish(false, refused + error);
-    Session session(ops, params);
-    session.Run(r);
-    r.refused = ops.Stats().Refused();
-    ops.Finish();
-    UpdateAdjacency(m);
+    const auto edits = [&](Ops& ops) {
+      Session session(ops, params);
+      session.Run(r);
+    };
+    if (!RunLocalEdits(m, reference, L, guards, params.threads, error, r.refused, edits))
+      return finish(false, refused + error);
     Measure(m, lowest, params.threads, r.obtuseAfter, above, r.angleMinAfter, r.angleMaxAfter);
     return finish(true, "obtuse reduction: " + std::to_string(r.obtuseBefore) + " -> " +
                             std::to_string(r.obtuseAfter) + " obtuse faces");
   }
 
 private:
-  static constexpr double kPi = 3.14159265358979323846;
-  static Point P(const VertexType* v) { return Ops::ToPoint(v->cP()); }
-
   static void Measure(const MeshType& m, double threshold, int threads, std::size_t& obtuse,
                       std::size_t& above, double& angleMin, double& angleMax) {
     obtuse = above = 0;
@@ -244,7 +241,7 @@ private:
           int corner = 0;
           double longest = -1;
           for (int k = 0; k < 3; ++k) {
-            const double l = (P(f.cV((k + 1) % 3)) - P(f.cV((k + 2) % 3))).SquaredNorm();
+            const double l = (PositionOf(f.cV((k + 1) % 3)) - PositionOf(f.cV((k + 2) % 3))).SquaredNorm();
             if (l > longest) longest = l, corner = k;
           }
           if (Translate(VIndex(f.cV(corner)))) ++r.moves, ++moved;
@@ -254,10 +251,7 @@ private:
     }
 
     Shape StarShape(const VertexType* v, const Point& q) const {
-      Shape s;
-      for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(v)); !it.End(); ++it)
-        s.Add(q, P(it.F()->cV((it.I() + 1) % 3)), P(it.F()->cV((it.I() + 2) % 3)), MinAngleBound());
-      return s;
+      return StarShapeAt<Shape, FaceType>(v, q, MinAngleBound());
     }
 
     /// Moves vertex vi to the best sample of its feasible disc, when that lowers the largest angle
@@ -266,20 +260,20 @@ private:
       ops_.EnsureFootpointsAround(m_.vert[vi]); // lazy footpoints (Init)
 
       VertexType& v = m_.vert[vi];
-      if (v.IsD() || v.VFp() == nullptr || ops_.IsLocked(v) || ops_.IsBoundaryVertex(v)) return false;
-      const Point p0 = P(&v);
+      if (!IsFreeVertex(ops_, v)) return false;
+      const Point p0 = PositionOf(&v);
       Point n(0, 0, 0);
       double shortest = std::numeric_limits<double>::infinity();
       for (vcg::face::VFIterator<FaceType> it(&v); !it.End(); ++it) {
-        const Point a = P(it.F()->cV((it.I() + 1) % 3)), b = P(it.F()->cV((it.I() + 2) % 3));
+        const Point a = PositionOf(it.F()->cV((it.I() + 1) % 3)),
+                    b = PositionOf(it.F()->cV((it.I() + 2) % 3));
         n += (a - p0) ^ (b - p0);
         shortest = std::min(shortest, (a - p0).Norm());
       }
       if (!(n.Norm() > 0) || !(shortest > 0)) return false;
       n.Normalize();
-      Point e1 = std::fabs(n[0]) < 0.9 ? Point(1, 0, 0) ^ n : Point(0, 1, 0) ^ n;
-      e1.Normalize();
-      const Point e2 = n ^ e1;
+      Point e1, e2;
+      TangentBasis(n, e1, e2);
       const Shape before = StarShape(&v, p0);
       const int foot = ops_.Footpoint(v);
       candidates_.clear();
@@ -307,14 +301,14 @@ private:
       double longest = -1;
       for (int e = 0; e < 3; ++e) {
         if (e == skip) continue;
-        const double l = (P(f.cV(e)) - P(f.cV((e + 1) % 3))).SquaredNorm();
+        const double l = (PositionOf(f.cV(e)) - PositionOf(f.cV((e + 1) % 3))).SquaredNorm();
         if (l > longest) longest = l, best = e;
       }
       return best;
     }
 
     static Point Normal(const FaceType& f) {
-      Point n = (P(f.cV(1)) - P(f.cV(0))) ^ (P(f.cV(2)) - P(f.cV(0)));
+      Point n = (PositionOf(f.cV(1)) - PositionOf(f.cV(0))) ^ (PositionOf(f.cV(2)) - PositionOf(f.cV(0)));
       const double len = n.Norm();
       return len > 0 ? n / len : Point(0, 0, 0);
     }
@@ -338,10 +332,11 @@ private:
       if (!ops_.DiskBoundary(region_, loop_, interior_) || loop_.size() != 5 || !interior_.empty())
         return false;
       Shape before;
-      for (const FacePointer r : region_) before.Add(P(r->cV(0)), P(r->cV(1)), P(r->cV(2)), MinAngleBound());
+      for (const FacePointer r : region_)
+        before.Add(PositionOf(r->cV(0)), PositionOf(r->cV(1)), PositionOf(r->cV(2)), MinAngleBound());
       std::array<Point, 5> q;
       Point centroid(0, 0, 0);
-      for (int i = 0; i < 5; ++i) centroid += (q[i] = P(loop_[i]));
+      for (int i = 0; i < 5; ++i) centroid += (q[i] = PositionOf(loop_[i]));
       centroid /= 5.0;
       Point n = nf + ng + nh;
       n.Normalize();

@@ -40,6 +40,7 @@
 
 #include <vcg_ext/topology/face_face_topology.h>
 #include <vcg_ext/core/input_check.h>
+#include <vcg_ext/geometry/point.h>
 #include <vcg_ext/ops/local_remeshing_ops.h>
 #include <vcg_ext/stages/local_stage.h>
 #include <vcg_ext/surface/reference_surface.h>
@@ -148,27 +149,25 @@ public:
     }
     LocalOpsGuards guards = params.guards;
     guards.minAngleDeg = params.minAngleDeg;
-    Ops ops(m, reference, L, guards, params.threads);
-    if (!ops.Init(&error, false, true, /*lazyFootpoints=*/true))
-      return finish(false, "small-angle elimination refused: " + error);
-    Session session(ops, params, L);
-    session.Run(r);
-    double angleMin = 0;
-    if (params.creaseNormalDeviationDeg > guards.maxNormalDeviationDeg &&
-        CountSmall(m, params.minAngleDeg, params.threads, angleMin) > 0) {
-      LocalOpsGuards crease = guards;
-      crease.maxNormalDeviationDeg = params.creaseNormalDeviationDeg;
-      crease.maxFoldAngleDeg = std::max(crease.maxFoldAngleDeg, params.creaseFoldAngleDeg);
-      ops.SetGuards(crease);
-      r.creasePass = true;
-      const int rounds = r.iterations;
+    const auto edits = [&](Ops& ops) {
+      Session session(ops, params, L);
       session.Run(r);
-      r.iterations += rounds;
-      ops.SetGuards(guards);
-    }
-    r.refused = ops.Stats().Refused();
-    ops.Finish();
-    UpdateAdjacency(m);
+      double angleMin = 0;
+      if (params.creaseNormalDeviationDeg > guards.maxNormalDeviationDeg &&
+          CountSmall(m, params.minAngleDeg, params.threads, angleMin) > 0) {
+        LocalOpsGuards crease = guards;
+        crease.maxNormalDeviationDeg = params.creaseNormalDeviationDeg;
+        crease.maxFoldAngleDeg = std::max(crease.maxFoldAngleDeg, params.creaseFoldAngleDeg);
+        ops.SetGuards(crease);
+        r.creasePass = true;
+        const int rounds = r.iterations;
+        session.Run(r);
+        r.iterations += rounds;
+        ops.SetGuards(guards);
+      }
+    };
+    if (!RunLocalEdits(m, reference, L, guards, params.threads, error, r.refused, edits))
+      return finish(false, refused + error);
     r.smallFacesAfter = CountSmall(m, params.minAngleDeg, params.threads, r.angleMinAfter);
     return finish(true, "small-angle elimination: " + std::to_string(r.smallFacesBefore) + " -> " +
                             std::to_string(r.smallFacesAfter) + " faces with an angle below " +
@@ -176,10 +175,6 @@ public:
   }
 
 private:
-  static constexpr double kPi = 3.14159265358979323846;
-
-  static Point P(const VertexType* v) { return Ops::ToPoint(v->cP()); }
-
   static std::size_t CountSmall(const MeshType& m, double minAngleDeg, int threads, double& angleMin) {
     std::size_t n = 0;
     angleMin = 180.0;
@@ -264,10 +259,7 @@ private:
 
     /// Shape of the star of v with v at q.
     Shape StarShape(const VertexType* v, const Point& q) const {
-      Shape s;
-      for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(v)); !it.End(); ++it)
-        s.Add(q, P(it.F()->cV((it.I() + 1) % 3)), P(it.F()->cV((it.I() + 2) % 3)), Threshold());
-      return s;
+      return StarShapeAt<Shape, FaceType>(v, q, Threshold());
     }
     /// Whether `after` is an improvement over `before` the stage may apply: a larger smallest
     /// angle, no more bad triangles, no angle above the bound that was not there.
@@ -282,27 +274,23 @@ private:
       ops_.EnsureFootpointsAround(m_.face[fi]); // lazy footpoints (Init)
 
       FaceType& f = m_.face[fi];
-      int z = 0;
-      double shortest = std::numeric_limits<double>::infinity();
-      for (int k = 0; k < 3; ++k) {
-        const double l = (P(f.cV(k)) - P(f.cV((k + 1) % 3))).SquaredNorm();
-        if (l < shortest) shortest = l, z = k;
-      }
+      const int z = ShortestEdgeIndex(f);
       VertexPointer a = f.V(z), b = f.V((z + 1) % 3);
       if (ops_.IsBoundaryVertex(*a) || ops_.IsBoundaryVertex(*b)) return false;
       // Old region: the stars of a and b. Candidates: survivor a, b (staying), or the midpoint.
       Shape before;
       for (VertexPointer v : {a, b})
         for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it)
-          before.Add(P(it.F()->cV(0)), P(it.F()->cV(1)), P(it.F()->cV(2)), Threshold());
+          before.Add(PositionOf(it.F()->cV(0)), PositionOf(it.F()->cV(1)), PositionOf(it.F()->cV(2)),
+                     Threshold());
       struct Option {
         Shape shape;
         int keep; ///< 0: a stays, 1: b stays, 2: midpoint
       };
       std::vector<Option> options;
-      const Point mid = (P(a) + P(b)) * 0.5;
+      const Point mid = (PositionOf(a) + PositionOf(b)) * 0.5;
       for (int keep = 0; keep < 3; ++keep) {
-        const Point q = keep == 0 ? P(a) : keep == 1 ? P(b) : mid;
+        const Point q = keep == 0 ? PositionOf(a) : keep == 1 ? PositionOf(b) : mid;
         Shape s;
         for (VertexPointer v : {a, b})
           for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it) {
@@ -313,7 +301,7 @@ private:
                 onEdge = true;
             if (onEdge) continue; // removed by the collapse
             std::array<Point, 3> p;
-            for (int c = 0; c < 3; ++c) p[c] = (g->cV(c) == a || g->cV(c) == b) ? q : P(g->cV(c));
+            for (int c = 0; c < 3; ++c) p[c] = (g->cV(c) == a || g->cV(c) == b) ? q : PositionOf(g->cV(c));
             s.Add(p[0], p[1], p[2], Threshold());
           }
         // Faces of both stars appear twice when they hold a and b: only the edge faces do, skipped.
@@ -349,16 +337,9 @@ private:
       int bestEdge = -1;
       double bestMin = -1;
       for (int z = 0; z < 3; ++z) {
-        const FaceType* g = f.cFFp(z);
-        if (g == &f) continue;
-        const int w = f.cFFi(z);
-        const Point p0 = P(f.cV(z)), p1 = P(f.cV((z + 1) % 3)), p2 = P(f.cV((z + 2) % 3)),
-                    p3 = P(g->cV((w + 2) % 3));
+        if (f.cFFp(z) == &f) continue;
         Shape before, after;
-        before.Add(p0, p1, p2, Threshold());
-        before.Add(p1, p0, p3, Threshold());
-        after.Add(p0, p3, p2, Threshold());
-        after.Add(p1, p2, p3, Threshold());
+        FlipShapes(EdgeQuad(f, z), Threshold(), before, after);
         if (Improves(before, after) && after.minDeg > bestMin) bestMin = after.minDeg, bestEdge = z;
       }
       return bestEdge >= 0 && ops_.FlipEdge(&f, bestEdge);
@@ -372,13 +353,14 @@ private:
       ops_.EnsureFootpointsAround(m_.vert[vi]); // lazy footpoints (Init)
 
       VertexType& v = m_.vert[vi];
-      if (v.IsD() || v.VFp() == nullptr || ops_.IsLocked(v) || ops_.IsBoundaryVertex(v)) return false;
-      const Point p0 = P(&v);
+      if (!IsFreeVertex(ops_, v)) return false;
+      const Point p0 = PositionOf(&v);
       Point centroid(0, 0, 0), n(0, 0, 0);
       double ring = 0;
       int count = 0;
       for (vcg::face::VFIterator<FaceType> it(&v); !it.End(); ++it) {
-        const Point a = P(it.F()->cV((it.I() + 1) % 3)), b = P(it.F()->cV((it.I() + 2) % 3));
+        const Point a = PositionOf(it.F()->cV((it.I() + 1) % 3)),
+                    b = PositionOf(it.F()->cV((it.I() + 2) % 3));
         centroid += a;
         n += (a - p0) ^ (b - p0);
         ring += (a - p0).Norm();
@@ -402,9 +384,8 @@ private:
       };
       consider(p0 + lap, true);
       if (candidates_.empty()) {
-        Point e1 = std::fabs(n[0]) < 0.9 ? Point(1, 0, 0) ^ n : Point(0, 1, 0) ^ n;
-        e1.Normalize();
-        const Point e2 = n ^ e1;
+        Point e1, e2;
+        TangentBasis(n, e1, e2);
         for (int ri = 1; ri <= params_.compassRadii; ++ri) {
           const double radius = params_.compassRadiusFactor * ring * ri / std::max(1, params_.compassRadii);
           for (int d = 0; d < params_.compassDirections; ++d) {
@@ -433,7 +414,8 @@ private:
       {
         const FaceType& f = m_.face[fi];
         for (int k = 0; k < 3; ++k) {
-          const Point p = P(f.cV(k)), a = P(f.cV((k + 1) % 3)), b = P(f.cV((k + 2) % 3));
+          const Point p = PositionOf(f.cV(k)), a = PositionOf(f.cV((k + 1) % 3)),
+                      b = PositionOf(f.cV((k + 2) % 3));
           const Point u = a - p, w = b - p;
           const double c = (u * w) / std::max(1e-300, u.Norm() * w.Norm());
           corners[k] = {-c, VIndex(f.cV(k))}; // smallest angle = largest cosine first
@@ -449,15 +431,16 @@ private:
 
     bool RefillVertex(std::size_t vi, Result& r) {
       VertexType& v = m_.vert[vi];
-      if (v.IsD() || v.VFp() == nullptr || ops_.IsLocked(v) || ops_.IsBoundaryVertex(v)) return false;
+      if (!IsFreeVertex(ops_, v)) return false;
       region_.clear();
       for (vcg::face::VFIterator<FaceType> it(&v); !it.End(); ++it) region_.push_back(it.F());
       if (region_.size() < 3 || int(region_.size()) > params_.maxRefillValence) return false;
       if (!ops_.DiskBoundary(region_, loop_, interior_) || interior_.size() != 1) return false;
       Shape before;
-      for (const FacePointer g : region_) before.Add(P(g->cV(0)), P(g->cV(1)), P(g->cV(2)), Threshold());
+      for (const FacePointer g : region_)
+        before.Add(PositionOf(g->cV(0)), PositionOf(g->cV(1)), PositionOf(g->cV(2)), Threshold());
       std::vector<Point> poly;
-      for (const VertexPointer u : loop_) poly.push_back(P(u));
+      for (const VertexPointer u : loop_) poly.push_back(PositionOf(u));
       std::vector<std::array<int, 3>> tris;
       Shape after;
       if (!MaxMinTriangulation(poly, tris, after)) return false;
@@ -478,7 +461,7 @@ private:
         }
       }
       for (const std::size_t ui : ring)
-        if (StarShape(&m_.vert[ui], P(&m_.vert[ui])).small > 0 && Translate(ui)) ++r.moves;
+        if (StarShape(&m_.vert[ui], PositionOf(&m_.vert[ui])).small > 0 && Translate(ui)) ++r.moves;
       return true;
     }
 

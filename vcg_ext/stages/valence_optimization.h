@@ -38,6 +38,7 @@
 
 #include <vcg_ext/topology/face_face_topology.h>
 #include <vcg_ext/core/input_check.h>
+#include <vcg_ext/geometry/point.h>
 #include <vcg_ext/ops/local_remeshing_ops.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/parallel_for.h>
@@ -51,6 +52,7 @@
 #include <cstdint>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace molremesh {
@@ -63,6 +65,37 @@ struct ValenceCensus {
     return vertices ? 100.0 * double(vertices - irregular) / double(vertices) : 100.0;
   }
 };
+
+/// The triangulations ValenceOptimization's refill tries for a hole with n rim vertices, in the
+/// order it considers them: the triangles (rim vertices 0..n-1, new vertices n and n+1) and the
+/// number of new vertices.
+inline std::vector<std::pair<std::vector<std::array<int, 3>>, int>> ValenceRefillCandidates(std::size_t n) {
+  std::vector<std::pair<std::vector<std::array<int, 3>>, int>> out;
+  const int N = int(n);
+  if (n == 3) out.emplace_back(std::vector<std::array<int, 3>>{{0, 1, 2}}, 0);
+  if (n == 4)
+    for (int r = 0; r < 2; ++r)
+      out.emplace_back(
+          std::vector<std::array<int, 3>>{{r, r + 1, (r + 2) % 4}, {r, (r + 2) % 4, (r + 3) % 4}}, 0);
+  if (n >= 4 && n <= 7) {
+    std::vector<std::array<int, 3>> fan;
+    for (int i = 0; i < N; ++i) fan.push_back({i, (i + 1) % N, N});
+    out.emplace_back(fan, 1);
+  }
+  if (n >= 7)
+    for (int i = 0; i < N; ++i)
+      for (int len = std::max(2, N / 2 - 1); len <= std::min(N - 2, N / 2 + 1); ++len) {
+        // New vertex a = N fans loop[i..i+len], b = N+1 fans loop[i+len..i+N].
+        const int j = (i + len) % N;
+        std::vector<std::array<int, 3>> tris;
+        for (int t = 0; t < len; ++t) tris.push_back({(i + t) % N, (i + t + 1) % N, N});
+        for (int t = 0; t < N - len; ++t) tris.push_back({(j + t) % N, (j + t + 1) % N, N + 1});
+        tris.push_back({N, j, N + 1});
+        tris.push_back({N, N + 1, i});
+        out.emplace_back(tris, 2);
+      }
+  return out;
+}
 
 template <class MeshType>
 class ValenceOptimization {
@@ -175,9 +208,6 @@ private:
   }
   static double FaceArea(const FaceType& f) {
     return 0.5 * vcg::Norm((f.cP(1) - f.cP(0)) ^ (f.cP(2) - f.cP(0)));
-  }
-  static Point P(const VertexType* v) {
-    return Point(double(v->cP()[0]), double(v->cP()[1]), double(v->cP()[2]));
   }
   /// Smallest and largest angle (degrees) of triangle (a, b, c). Deliberately not
   /// TriangleAngleRange (triangle_angles.h): this formula (side lengths, third angle = 180 - A - B)
@@ -384,11 +414,12 @@ bool ValenceOptimization<MeshType>::Session::Refill(const std::vector<FacePointe
   Point centroid(0, 0, 0), normal(0, 0, 0);
   double rim = 0;
   for (std::size_t i = 0; i < n; ++i) {
-    centroid += P(loop[i]);
-    rim += (P(loop[(i + 1) % n]) - P(loop[i])).Norm();
+    centroid += PositionOf(loop[i]);
+    rim += (PositionOf(loop[(i + 1) % n]) - PositionOf(loop[i])).Norm();
   }
   centroid /= double(n);
-  for (const FacePointer f : faces) normal += (P(f->V(1)) - P(f->V(0))) ^ (P(f->V(2)) - P(f->V(0)));
+  for (const FacePointer f : faces)
+    normal += (PositionOf(f->V(1)) - PositionOf(f->V(0))) ^ (PositionOf(f->V(2)) - PositionOf(f->V(0)));
   if (!(normal.Norm() > 0)) return false;
   normal.Normalize();
   const double meanRim = rim / double(n);
@@ -414,26 +445,7 @@ bool ValenceOptimization<MeshType>::Session::Refill(const std::vector<FacePointe
     fills.push_back(std::move(fill));
   };
   const int N = int(n);
-  if (n == 3) consider({{0, 1, 2}}, 0);
-  if (n == 4)
-    for (int r = 0; r < 2; ++r) consider({{r, r + 1, (r + 2) % 4}, {r, (r + 2) % 4, (r + 3) % 4}}, 0);
-  if (n >= 4 && n <= 7) {
-    std::vector<std::array<int, 3>> fan;
-    for (int i = 0; i < N; ++i) fan.push_back({i, (i + 1) % N, N});
-    consider(fan, 1);
-  }
-  if (n >= 7)
-    for (int i = 0; i < N; ++i)
-      for (int len = std::max(2, N / 2 - 1); len <= std::min(N - 2, N / 2 + 1); ++len) {
-        // New vertex a = N fans loop[i..i+len], b = N+1 fans loop[i+len..i+N].
-        const int j = (i + len) % N;
-        std::vector<std::array<int, 3>> tris;
-        for (int t = 0; t < len; ++t) tris.push_back({(i + t) % N, (i + t + 1) % N, N});
-        for (int t = 0; t < N - len; ++t) tris.push_back({(j + t) % N, (j + t + 1) % N, N + 1});
-        tris.push_back({N, j, N + 1});
-        tris.push_back({N, N + 1, i});
-        consider(tris, 2);
-      }
+  for (auto& [tris, k] : ValenceRefillCandidates(n)) consider(std::move(tris), k);
   if (fills.empty()) return false;
   // Place the new vertices of the best-scoring fills and try them, best first.
   std::stable_sort(fills.begin(), fills.end(),
@@ -442,7 +454,7 @@ bool ValenceOptimization<MeshType>::Session::Refill(const std::vector<FacePointe
   for (std::size_t c = 0; c < tryCount; ++c) {
     Fill& fill = fills[c];
     fill.pts.resize(n + std::size_t(fill.newVertices));
-    for (std::size_t i = 0; i < n; ++i) fill.pts[i] = P(loop[i]);
+    for (std::size_t i = 0; i < n; ++i) fill.pts[i] = PositionOf(loop[i]);
     for (int j = 0; j < fill.newVertices; ++j) {
       // Start at the centroid of the rim vertices the new vertex fans, pulled to the hole's centre.
       Point s(0, 0, 0);
@@ -596,7 +608,7 @@ ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const
         const FaceType& f = m.face[fi];
         if (f.IsD()) continue;
         double lo, hi;
-        AngleRange(P(f.cV(0)), P(f.cV(1)), P(f.cV(2)), lo, hi);
+        AngleRange(PositionOf(f.cV(0)), PositionOf(f.cV(1)), PositionOf(f.cV(2)), lo, hi);
         // Same tolerance as the guard's cosine comparison: an angle of exactly the bound is fine.
         counts[std::size_t(t)][0] += lo < params.minAngleDeg - 1e-9;
         counts[std::size_t(t)][1] += hi > params.maxAngleDeg + 1e-9;
