@@ -38,6 +38,7 @@
 #include <vcg_ext/geometry/point.h>
 #include <vcg_ext/geometry/triangle_shape.h>
 #include <vcg_ext/spatial/self_intersections.h>
+#include <vcg_ext/topology/edge_topology.h>
 
 #include <algorithm>
 #include <array>
@@ -180,159 +181,435 @@ inline double TriangleAngles::max() const {
 
 namespace quality_detail {
 
-// --- Topology ------------------------------------------------------------------------------------
+// The steps of MeshQuality::Compute, in the order it runs them. Each fills its part of the report
+// and returns what later steps read.
 
-/// Edge table and incidence relations of the proper faces, in compressed-row form.
-struct Topology {
-  std::size_t vertexCount = 0;                 ///< size of m.vert
-  std::vector<std::array<Index, 3>> faces;     ///< live faces, in m.face order (compact numbering)
-  std::vector<bool> proper;                    ///< three distinct valid vertex indices
-  std::vector<std::uint64_t> edgeKeys;         ///< (min << 32 | max), sorted, one per distinct edge
-  std::vector<Index> edgeFaceStart, edgeFaces; ///< faces of edge e: [start[e], start[e+1])
-  std::vector<Index> vertEdgeStart, vertEdges; ///< edges at vertex v
-  std::vector<Index> vertFaceStart, vertFaces; ///< proper faces at vertex v, ascending
-  std::vector<bool> onNonManifoldEdge;         ///< per vertex
-  std::vector<bool> onBorder;                  ///< per vertex: boundary or non-manifold edge
-
-  Index EdgeV0(std::size_t e) const { return Index(edgeKeys[e] >> 32); }
-  Index EdgeV1(std::size_t e) const { return Index(edgeKeys[e] & 0xffffffffu); }
-  Index EdgeFaceCount(std::size_t e) const { return edgeFaceStart[e + 1] - edgeFaceStart[e]; }
+/// Per vertex: finite coordinates; used by at least one face.
+struct VertexFlags {
+  std::vector<bool> finite, referenced;
 };
 
-/// Builds everything but `faces`/`proper`/`vertexCount`, which the caller fills.
-///
-/// Linear time: every table is filled by counting sort (bucket by vertex), which keeps the
-/// faces and edges of one bucket in ascending order for free; only the few sides at one vertex
-/// are sorted among themselves. The pipeline reports after every stage, and three general sorts
-/// of 1.5 M entries each cost more there than all the other figures together. Those per-vertex
-/// sorts, and the edges they give, run on `threads` threads: each vertex writes only its own part
-/// of the tables, at offsets counted beforehand, so the tables do not depend on the thread count.
-inline void BuildTopology(Topology& t, int threads) {
+/// Live, non-finite, referenced and unreferenced vertex counts.
+inline VertexFlags CountVertices(const EdgeTopology& t, const std::vector<Point>& points,
+                                 const std::vector<bool>& live, QualityReport& r) {
   const std::size_t nv = t.vertexCount;
-  const std::size_t nf = t.faces.size();
-
-  // Each proper face side as (larger vertex, face), bucketed by its smaller vertex; faces are
-  // visited in ascending order, so each bucket lists them ascending.
-  std::vector<Index> sideStart(nv + 1, 0);
-  for (std::size_t f = 0; f < nf; ++f) {
-    if (!t.proper[f]) continue;
-    for (int i = 0; i < 3; ++i) ++sideStart[std::min(t.faces[f][i], t.faces[f][(i + 1) % 3]) + 1];
-  }
-  for (std::size_t v = 0; v < nv; ++v) sideStart[v + 1] += sideStart[v];
-  std::vector<std::pair<Index, Index>> sides(sideStart[nv]); // (larger vertex, face)
-  {
-    std::vector<Index> fill(sideStart.begin(), sideStart.end() - 1);
-    for (std::size_t f = 0; f < nf; ++f) {
-      if (!t.proper[f]) continue;
-      for (int i = 0; i < 3; ++i) {
-        const Index a = t.faces[f][i], b = t.faces[f][(i + 1) % 3];
-        sides[fill[std::min(a, b)]++] = {std::max(a, b), Index(f)};
-      }
+  VertexFlags flags;
+  flags.finite.assign(nv, false);
+  flags.referenced.assign(nv, false);
+  for (std::size_t v = 0; v < nv; ++v) {
+    flags.finite[v] = IsFinite(points[v]);
+    if (live[v]) {
+      ++r.vertices;
+      if (!flags.finite[v]) ++r.nonFiniteVertices;
     }
   }
-  // Sorted, the sides of one bucket list the edges at their smaller vertex in ascending order,
-  // each edge's faces ascending. edgesAt[v + 1] counts the edges of bucket v, then becomes the
-  // number of the first edge of bucket v + 1.
-  t.edgeFaces.resize(sides.size());
-  std::vector<Index> edgesAt(nv + 1, 0);
-  ParallelFor(nv, threads, [&](std::size_t vBegin, std::size_t vEnd, int) {
-    for (std::size_t v = vBegin; v < vEnd; ++v) {
-      std::sort(sides.begin() + sideStart[v], sides.begin() + sideStart[v + 1]); // (larger vertex, face)
-      for (Index k = sideStart[v]; k < sideStart[v + 1]; ++k) {
-        if (k == sideStart[v] || sides[k].first != sides[k - 1].first) ++edgesAt[v + 1];
-        t.edgeFaces[k] = sides[k].second;
-      }
-    }
-  });
-  for (std::size_t v = 0; v < nv; ++v) edgesAt[v + 1] += edgesAt[v];
-  const std::size_t ne = edgesAt[nv];
-  t.edgeKeys.resize(ne);
-  t.edgeFaceStart.resize(ne + 1);
-  t.edgeFaceStart[ne] = Index(sides.size());
-  ParallelFor(nv, threads, [&](std::size_t vBegin, std::size_t vEnd, int) {
-    for (std::size_t v = vBegin; v < vEnd; ++v) {
-      Index e = edgesAt[v];
-      for (Index k = sideStart[v]; k < sideStart[v + 1]; ++k)
-        if (k == sideStart[v] || sides[k].first != sides[k - 1].first) {
-          t.edgeKeys[e] = (std::uint64_t(v) << 32) | sides[k].first;
-          t.edgeFaceStart[e++] = k;
-        }
-    }
-  });
-  sides = std::vector<std::pair<Index, Index>>();
+  for (const auto& f : t.faces)
+    for (Index v : f)
+      if (v != kNoIndex) flags.referenced[v] = true;
+  for (std::size_t v = 0; v < nv; ++v)
+    if (live[v] && flags.referenced[v]) ++r.referencedVertices;
+  r.unreferencedVertices = r.vertices - r.referencedVertices;
+  return flags;
+}
 
-  // Edges at each vertex, ascending (the edges are visited in ascending order).
-  t.vertEdgeStart.assign(nv + 1, 0);
-  for (std::size_t e = 0; e < ne; ++e) {
-    ++t.vertEdgeStart[t.EdgeV0(e) + 1];
-    ++t.vertEdgeStart[t.EdgeV1(e) + 1];
-  }
-  for (std::size_t v = 0; v < nv; ++v) t.vertEdgeStart[v + 1] += t.vertEdgeStart[v];
-  t.vertEdges.resize(t.vertEdgeStart[nv]);
-  {
-    std::vector<Index> fill(t.vertEdgeStart.begin(), t.vertEdgeStart.end() - 1);
-    for (std::size_t e = 0; e < ne; ++e) {
-      t.vertEdges[fill[t.EdgeV0(e)]++] = Index(e);
-      t.vertEdges[fill[t.EdgeV1(e)]++] = Index(e);
-    }
-  }
-
-  // Proper faces at each vertex, ascending.
-  t.vertFaceStart.assign(nv + 1, 0);
-  for (std::size_t f = 0; f < nf; ++f)
-    if (t.proper[f])
-      for (Index v : t.faces[f]) ++t.vertFaceStart[v + 1];
-  for (std::size_t v = 0; v < nv; ++v) t.vertFaceStart[v + 1] += t.vertFaceStart[v];
-  t.vertFaces.resize(t.vertFaceStart[nv]);
-  {
-    std::vector<Index> fill(t.vertFaceStart.begin(), t.vertFaceStart.end() - 1);
-    for (std::size_t f = 0; f < nf; ++f)
-      if (t.proper[f])
-        for (Index v : t.faces[f]) t.vertFaces[fill[v]++] = Index(f);
-  }
-
-  t.onNonManifoldEdge.assign(nv, false);
-  t.onBorder.assign(nv, false);
+/// Boundary and non-manifold edge counts, mean and median length of the edges with finite ends.
+inline void MeasureEdges(const EdgeTopology& t, const std::vector<Point>& points,
+                         const std::vector<bool>& finite, QualityReport& r) {
+  const std::size_t ne = t.edgeKeys.size();
+  std::vector<double> edgeLengths;
+  edgeLengths.reserve(ne);
   for (std::size_t e = 0; e < ne; ++e) {
     const Index count = t.EdgeFaceCount(e);
-    if (count == 2) continue;
-    for (Index v : {t.EdgeV0(e), t.EdgeV1(e)}) {
-      t.onBorder[v] = true;
-      if (count > 2) t.onNonManifoldEdge[v] = true;
-    }
+    if (count == 1) ++r.boundaryEdges;
+    if (count > 2) ++r.nonManifoldEdges;
+    const Index a = t.EdgeV0(e), b = t.EdgeV1(e);
+    if (finite[a] && finite[b]) edgeLengths.push_back((points[a] - points[b]).Norm());
+  }
+  if (!edgeLengths.empty()) {
+    r.meanEdgeLength =
+        std::accumulate(edgeLengths.begin(), edgeLengths.end(), 0.0) / double(edgeLengths.size());
+    const auto middle = edgeLengths.begin() + std::ptrdiff_t(edgeLengths.size() / 2);
+    std::nth_element(edgeLengths.begin(), middle, edgeLengths.end());
+    r.medianEdgeLength = *middle;
   }
 }
 
-/// The live faces of m as vertex indices (kNoIndex for an invalid reference), and whether each is
-/// proper.
-template <class MeshType>
-void ReadFaces(const MeshType& m, std::vector<std::array<Index, 3>>& faces, std::vector<bool>& proper) {
-  faces.reserve(m.face.size());
-  proper.reserve(m.face.size());
-  const auto* vertBegin = m.vert.empty() ? nullptr : &m.vert[0];
-  for (const auto& f : m.face) {
-    if (f.IsD()) continue;
-    std::array<Index, 3> idx{kNoIndex, kNoIndex, kNoIndex};
-    for (int i = 0; i < 3; ++i) {
-      const auto* vp = f.cV(i);
-      if (vp == nullptr || vertBegin == nullptr) continue;
-      const std::ptrdiff_t k = vp - vertBegin;
-      if (k >= 0 && std::size_t(k) < m.vert.size()) idx[i] = Index(k);
+/// Connected components through shared edges, numbered by their lowest face (which is also the
+/// union-find root); `info` holds their face counts, the rest is filled by later steps.
+struct Components {
+  std::vector<Index> componentOf; ///< per face; kNoIndex for a face that is not proper
+  std::vector<ComponentInfo> info;
+};
+
+inline Components LabelComponents(const EdgeTopology& t) {
+  const std::size_t nf = t.faces.size();
+  const std::size_t ne = t.edgeKeys.size();
+  UnionFind faceSets(nf);
+  for (std::size_t e = 0; e < ne; ++e)
+    for (Index k = t.edgeFaceStart[e] + 1; k < t.edgeFaceStart[e + 1]; ++k)
+      faceSets.Unite(t.edgeFaces[t.edgeFaceStart[e]], t.edgeFaces[k]);
+  Components c;
+  c.componentOf.assign(nf, kNoIndex);
+  for (std::size_t f = 0; f < nf; ++f) {
+    if (!t.proper[f]) continue;
+    const Index root = faceSets.Find(Index(f));
+    if (root == f) {
+      c.componentOf[f] = Index(c.info.size());
+      c.info.emplace_back();
+    } else {
+      c.componentOf[f] = c.componentOf[root];
     }
-    const bool valid = idx[0] != kNoIndex && idx[1] != kNoIndex && idx[2] != kNoIndex;
-    faces.push_back(idx);
-    proper.push_back(valid && idx[0] != idx[1] && idx[1] != idx[2] && idx[2] != idx[0]);
+    ++c.info[c.componentOf[f]].faces;
+  }
+  return c;
+}
+
+/// What the judging of the vertex fans of one thread leaves to apply afterwards, and its reused
+/// buffers.
+struct FanScratch {
+  std::vector<Index> localParent;
+  std::vector<std::pair<Index, Index>> fanBoundary; // (fan root, boundary edge)
+  std::vector<Index> fanComponents;
+  std::vector<Index> nonManifoldComponents, broken; // to apply afterwards
+  std::vector<std::pair<Index, Index>> links;       // boundary edges to unite afterwards
+};
+
+/// Judges the fans of vertex v (which has faces and no non-manifold edge): marks it non-manifold
+/// when it has more than one fan, and pairs the two boundary edges of each open fan.
+inline void JudgeVertexFan(const EdgeTopology& t, std::size_t v, const std::vector<Index>& componentOf,
+                           FanScratch& own, std::vector<char>& nonManifoldVertex) {
+  std::vector<Index>& localParent = own.localParent;
+  std::vector<std::pair<Index, Index>>& fanBoundary = own.fanBoundary;
+  std::vector<Index>& fanComponents = own.fanComponents;
+  const Index fBegin = t.vertFaceStart[v], fEnd = t.vertFaceStart[v + 1];
+  const Index eBegin = t.vertEdgeStart[v], eEnd = t.vertEdgeStart[v + 1];
+  const auto facesBegin = t.vertFaces.begin() + fBegin, facesEnd = t.vertFaces.begin() + fEnd;
+  auto local = [&](Index f) { return Index(std::lower_bound(facesBegin, facesEnd, f) - facesBegin); };
+  localParent.resize(fEnd - fBegin);
+  std::iota(localParent.begin(), localParent.end(), Index(0));
+  auto find = [&](Index x) {
+    while (localParent[x] != x) x = localParent[x] = localParent[localParent[x]];
+    return x;
+  };
+  fanBoundary.clear();
+  for (Index k = eBegin; k < eEnd; ++k) {
+    const Index e = t.vertEdges[k];
+    const Index* ef = &t.edgeFaces[t.edgeFaceStart[e]];
+    if (t.EdgeFaceCount(e) == 2) {
+      const Index a = find(local(ef[0])), b = find(local(ef[1]));
+      if (a != b) localParent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  std::size_t fans = 0;
+  for (Index i = 0; i < localParent.size(); ++i)
+    if (find(i) == i) ++fans;
+  if (fans > 1) {
+    nonManifoldVertex[v] = 1;
+    // Two fans of the same component make that component non-manifold; fans of different
+    // components only mean the components touch there (each is manifold on its own).
+    fanComponents.clear();
+    for (Index i = 0; i < localParent.size(); ++i)
+      if (find(i) == i) fanComponents.push_back(componentOf[t.vertFaces[fBegin + i]]);
+    std::sort(fanComponents.begin(), fanComponents.end());
+    for (std::size_t i = 1; i < fanComponents.size(); ++i)
+      if (fanComponents[i] == fanComponents[i - 1]) own.nonManifoldComponents.push_back(fanComponents[i]);
+  }
+  for (Index k = eBegin; k < eEnd; ++k) {
+    const Index e = t.vertEdges[k];
+    if (t.EdgeFaceCount(e) == 1) fanBoundary.emplace_back(find(local(t.edgeFaces[t.edgeFaceStart[e]])), e);
+  }
+  std::sort(fanBoundary.begin(), fanBoundary.end());
+  for (std::size_t i = 0; i < fanBoundary.size();) {
+    std::size_t j = i;
+    while (j < fanBoundary.size() && fanBoundary[j].first == fanBoundary[i].first) ++j;
+    if (j - i == 2)
+      own.links.emplace_back(fanBoundary[i].second, fanBoundary[i + 1].second);
+    else
+      for (std::size_t k = i; k < j; ++k) own.broken.push_back(fanBoundary[k].second);
+    i = j;
   }
 }
 
-/// Reads the live faces of m into t and builds the topology on `threads` threads.
-template <class MeshType>
-Topology ReadTopology(const MeshType& m, int threads) {
-  Topology t;
-  t.vertexCount = m.vert.size();
-  ReadFaces(m, t.faces, t.proper);
-  BuildTopology(t, threads);
-  return t;
+/// Boundary edges linked into polylines by the vertex fans; a polyline with a broken edge is not
+/// a loop.
+struct BoundaryLinks {
+  UnionFind links;
+  std::vector<bool> broken;
+};
+
+/// Vertex fans: non-manifold vertices and the pairing of boundary edges into loops.
+/// At a vertex whose edges are all manifold or boundary, the incident faces split into fans
+/// joined through two-face edges; an open fan has exactly two boundary edges, which are
+/// consecutive edges of one boundary loop. Boundary edges at vertices where this does not hold
+/// (non-manifold edges) are "broken" and their polylines are not counted as loops.
+/// The vertices are judged in parallel. What concerns shared records (a component made
+/// non-manifold, a boundary edge broken, two boundary edges linked) is collected per thread and
+/// applied afterwards; applying it does not depend on the order (flags, and a union-find whose
+/// roots are the smallest members), so neither does the result on the thread count.
+inline BoundaryLinks JudgeVertexFans(const EdgeTopology& t, Components& components, int threads,
+                                     QualityReport& r) {
+  const std::size_t nv = t.vertexCount;
+  const std::size_t ne = t.edgeKeys.size();
+  std::vector<char> nonManifoldVertex(nv, 0); // char, not bool: written concurrently
+  BoundaryLinks boundary{UnionFind(ne), std::vector<bool>(ne, false)};
+  std::vector<FanScratch> scratch(std::size_t(ResolveThreadCount(threads)));
+  ParallelFor(nv, threads, [&](std::size_t vBegin, std::size_t vEnd, int thread) {
+    FanScratch& own = scratch[std::size_t(thread)];
+    for (std::size_t v = vBegin; v < vEnd; ++v) {
+      if (t.vertFaceStart[v] == t.vertFaceStart[v + 1]) continue;
+      if (t.onNonManifoldEdge[v]) {
+        for (Index k = t.vertEdgeStart[v]; k < t.vertEdgeStart[v + 1]; ++k)
+          if (t.EdgeFaceCount(t.vertEdges[k]) == 1) own.broken.push_back(t.vertEdges[k]);
+        continue;
+      }
+      JudgeVertexFan(t, v, components.componentOf, own, nonManifoldVertex);
+    }
+  });
+  for (const FanScratch& own : scratch) {
+    for (Index c : own.nonManifoldComponents) components.info[c].manifold = false;
+    for (Index e : own.broken) boundary.broken[e] = true;
+    for (const auto& [a, b] : own.links) boundary.links.Unite(a, b);
+  }
+  for (std::size_t v = 0; v < nv; ++v)
+    if (nonManifoldVertex[v]) ++r.nonManifoldVertices;
+  return boundary;
+}
+
+/// Per component: its edges (in compEdges), boundary edges, and non-manifold edges.
+inline std::vector<long long> CountComponentEdges(const EdgeTopology& t, Components& components) {
+  std::vector<long long> compEdges(components.info.size(), 0);
+  for (std::size_t e = 0; e < t.edgeKeys.size(); ++e) {
+    const Index c = components.componentOf[t.edgeFaces[t.edgeFaceStart[e]]];
+    ++compEdges[c];
+    if (t.EdgeFaceCount(e) == 1) ++components.info[c].boundaryEdges;
+    if (t.EdgeFaceCount(e) > 2) components.info[c].manifold = false;
+  }
+  return compEdges;
+}
+
+/// Per component: its vertices (a vertex where components touch counts in each). Returns the
+/// vertices with at least one proper face.
+inline std::size_t CountComponentVertices(const EdgeTopology& t, const Components& components,
+                                          std::vector<long long>& compVertices) {
+  compVertices.assign(components.info.size(), 0);
+  std::size_t topologyVertices = 0;
+  std::vector<Index> vertexComps;
+  for (std::size_t v = 0; v < t.vertexCount; ++v) {
+    const Index fBegin = t.vertFaceStart[v], fEnd = t.vertFaceStart[v + 1];
+    if (fBegin == fEnd) continue;
+    ++topologyVertices;
+    vertexComps.clear();
+    for (Index k = fBegin; k < fEnd; ++k) vertexComps.push_back(components.componentOf[t.vertFaces[k]]);
+    std::sort(vertexComps.begin(), vertexComps.end());
+    vertexComps.erase(std::unique(vertexComps.begin(), vertexComps.end()), vertexComps.end());
+    for (Index c : vertexComps) ++compVertices[c];
+  }
+  return topologyVertices;
+}
+
+/// Boundary loops: classes of linked boundary edges without a broken edge.
+inline void CountBoundaryLoops(const EdgeTopology& t, BoundaryLinks& boundary, Components& components,
+                               QualityReport& r) {
+  const std::size_t ne = t.edgeKeys.size();
+  std::vector<bool> classBroken(ne, false);
+  for (std::size_t e = 0; e < ne; ++e)
+    if (t.EdgeFaceCount(e) == 1 && boundary.broken[e]) classBroken[boundary.links.Find(Index(e))] = true;
+  for (std::size_t e = 0; e < ne; ++e)
+    if (t.EdgeFaceCount(e) == 1 && boundary.links.Find(Index(e)) == e && !classBroken[e]) {
+      ++r.boundaryLoops;
+      ++components.info[components.componentOf[t.edgeFaces[t.edgeFaceStart[e]]]].boundaryLoops;
+    }
+}
+
+/// Euler characteristic and genus of the mesh and of each component; the components go into the
+/// report, largest first.
+inline void FinishTopology(const EdgeTopology& t, Components& components,
+                           const std::vector<long long>& compVertices,
+                           const std::vector<long long>& compEdges, std::size_t topologyVertices,
+                           QualityReport& r) {
+  std::vector<ComponentInfo>& comps = components.info;
+  r.euler = int(topologyVertices) - int(t.edgeKeys.size()) +
+            int(std::count(t.proper.begin(), t.proper.end(), true));
+  r.genus = 0;
+  for (std::size_t c = 0; c < comps.size(); ++c) {
+    ComponentInfo& info = comps[c];
+    info.euler = int(compVertices[c] - compEdges[c] + (long long)info.faces);
+    info.closed = info.manifold && info.boundaryEdges == 0;
+    const int twiceGenus = 2 - info.euler - int(info.boundaryLoops);
+    info.genus = (info.manifold && twiceGenus >= 0 && twiceGenus % 2 == 0) ? twiceGenus / 2 : -1;
+    if (info.genus < 0)
+      r.genus = -1;
+    else if (r.genus >= 0)
+      r.genus += info.genus;
+  }
+  std::stable_sort(comps.begin(), comps.end(),
+                   [](const ComponentInfo& a, const ComponentInfo& b) { return a.faces > b.faces; });
+  r.components = comps.size();
+  r.componentInfo = std::move(comps);
+}
+
+/// Components, their manifoldness, boundary loops, Euler characteristic and genus.
+inline void MeasureTopology(const EdgeTopology& t, int threads, QualityReport& r) {
+  Components components = LabelComponents(t);
+  BoundaryLinks boundary = JudgeVertexFans(t, components, threads, r);
+  const std::vector<long long> compEdges = CountComponentEdges(t, components);
+  std::vector<long long> compVertices;
+  const std::size_t topologyVertices = CountComponentVertices(t, components, compVertices);
+  CountBoundaryLoops(t, boundary, components, r);
+  FinishTopology(t, components, compVertices, compEdges, topologyVertices, r);
+}
+
+/// Valence histogram of the interior vertices (live, with edges, on no boundary or non-manifold
+/// edge) and the share of valences 5, 6 and 7.
+inline void MeasureValence(const EdgeTopology& t, const std::vector<bool>& live, QualityReport& r) {
+  for (std::size_t v = 0; v < t.vertexCount; ++v) {
+    const int valence = int(t.vertEdgeStart[v + 1] - t.vertEdgeStart[v]);
+    if (!live[v] || valence == 0 || t.onBorder[v]) continue;
+    ++r.interiorVertices;
+    ++r.valenceHistogram[valence];
+    if (valence >= 5 && valence <= 7) ++r.regularVertices;
+  }
+  r.v567Percent =
+      r.interiorVertices > 0 ? 100.0 * double(r.regularVertices) / double(r.interiorVertices) : 100.0;
+}
+
+/// Mean of the live, referenced, finite vertices: the origin of the volume terms.
+inline Point VolumeOrigin(const std::vector<Point>& points, const std::vector<bool>& live,
+                          const VertexFlags& flags) {
+  Point centroid(0, 0, 0);
+  std::size_t centroidCount = 0;
+  for (std::size_t v = 0; v < flags.finite.size(); ++v)
+    if (live[v] && flags.referenced[v] && flags.finite[v]) {
+      centroid += points[v];
+      ++centroidCount;
+    }
+  if (centroidCount > 0) centroid /= double(centroidCount);
+  return centroid;
+}
+
+/// The shape figures of one face, computed in parallel before they are summed in face order.
+struct FaceFigures {
+  double q, minAngle, maxAngle, aspectRatio, area, volume;
+  bool degenerate, counted; ///< counted: finite corners, the area and volume terms count
+};
+
+inline FaceFigures FaceFiguresOf(const EdgeTopology& t, std::size_t f, const std::vector<Point>& points,
+                                 const std::vector<bool>& finite, const Point& centroid,
+                                 double degenerateArea) {
+  FaceFigures x;
+  TriangleShape shape;
+  x.counted = false;
+  x.volume = 0;
+  if (t.proper[f]) {
+    const auto& tri = t.faces[f];
+    shape = ShapeOf(points[tri[0]], points[tri[1]], points[tri[2]], degenerateArea);
+    if (finite[tri[0]] && finite[tri[1]] && finite[tri[2]]) {
+      x.counted = true;
+      x.volume = (points[tri[0]] - centroid) * ((points[tri[1]] - centroid) ^ (points[tri[2]] - centroid));
+    }
+  }
+  if (shape.degenerate) {
+    shape.angles = {0.0, 0.0, 180.0};
+    shape.q = 0;
+    shape.aspectRatio = std::numeric_limits<double>::infinity();
+  }
+  x.q = shape.q;
+  x.minAngle = std::min({shape.angles[0], shape.angles[1], shape.angles[2]});
+  x.maxAngle = std::max({shape.angles[0], shape.angles[1], shape.angles[2]});
+  x.aspectRatio = shape.aspectRatio;
+  x.area = shape.area;
+  x.degenerate = shape.degenerate;
+  return x;
+}
+
+/// Running sums of the shape figures, taken in face order.
+struct ShapeSums {
+  double q = 0, minAngle = 0, aspectRatio = 0, aspectRatioNonDegenerate = 0, volume = 0;
+};
+
+/// Adds face f's figures to the sums, extremes and counts; a non-degenerate proper face becomes a
+/// self-intersection candidate.
+template <class Params>
+void AddFaceFigures(const EdgeTopology& t, std::size_t f, const FaceFigures& x, const Params& params,
+                    ShapeSums& sums, std::vector<std::array<Index, 3>>& candidates, QualityReport& r) {
+  if (t.proper[f]) {
+    if (x.counted) {
+      r.area += x.area;
+      sums.volume += x.volume;
+    }
+    if (!x.degenerate) candidates.push_back(t.faces[f]);
+  }
+  if (x.degenerate) {
+    ++r.degenerateFaces;
+  } else {
+    sums.aspectRatioNonDegenerate += x.aspectRatio;
+  }
+  sums.q += x.q;
+  sums.minAngle += x.minAngle;
+  sums.aspectRatio += x.aspectRatio;
+  r.qMin = std::min(r.qMin, x.q);
+  r.angleMin = std::min(r.angleMin, x.minAngle);
+  r.angleMax = std::max(r.angleMax, x.maxAngle);
+  r.aspectRatioMax = std::max(r.aspectRatioMax, x.aspectRatio);
+  if (x.minAngle < params.smallAngle) ++r.smallAngleFaces;
+  if (x.maxAngle >= params.obtuseAngle) ++r.obtuseFaces;
+  if (x.maxAngle > params.largeAngle) ++r.largeAngleFaces;
+}
+
+/// Volume, means and percentages from the sums over all nf faces.
+inline void FinishShapeFigures(const ShapeSums& sums, std::size_t nf, QualityReport& r) {
+  r.volume = sums.volume / 6.0;
+  if (nf > 0) {
+    const double count = double(nf);
+    r.qAvg = sums.q / count;
+    r.meanMinAngle = sums.minAngle / count;
+    r.aspectRatioMean = sums.aspectRatio / count;
+    r.smallAnglePercent = 100.0 * double(r.smallAngleFaces) / count;
+    r.obtusePercent = 100.0 * double(r.obtuseFaces) / count;
+    r.largeAnglePercent = 100.0 * double(r.largeAngleFaces) / count;
+  } else {
+    r.qMin = r.angleMin = r.angleMax = 0;
+  }
+  const std::size_t nonDegenerate = nf - r.degenerateFaces;
+  r.aspectRatioMeanNonDegenerate =
+      nonDegenerate > 0 ? sums.aspectRatioNonDegenerate / double(nonDegenerate) : 0.0;
+}
+
+/// Triangle shape, area, volume and degenerate faces. Returns the non-degenerate proper faces, the
+/// candidates for self-intersections.
+///
+/// The shapes (three atan2 each) are computed in parallel, one record per face of a window of
+/// faces; the sums are then taken serially in face order, so they are the same to the last bit
+/// for any thread count. A reused window, because records for the whole mesh would cost more
+/// in page faults than the parallel loop saves.
+template <class Params>
+std::vector<std::array<Index, 3>> MeasureShapes(const EdgeTopology& t, const std::vector<Point>& points,
+                                                const std::vector<bool>& live, const VertexFlags& flags,
+                                                const Params& params, QualityReport& r) {
+  const std::size_t nf = t.faces.size();
+  const Point centroid = VolumeOrigin(points, live, flags);
+  const double degenerateArea = params.degenerateAreaEpsilon * r.medianEdgeLength * r.medianEdgeLength;
+  const double infinity = std::numeric_limits<double>::infinity();
+  ShapeSums sums;
+  r.qMin = infinity;
+  r.angleMin = infinity;
+  r.angleMax = -infinity;
+  r.aspectRatioMax = 0;
+  std::vector<std::array<Index, 3>> candidates;
+  candidates.reserve(nf);
+  constexpr std::size_t kWindow = std::size_t(1) << 15;
+  std::vector<FaceFigures> figures(std::min(nf, kWindow));
+  for (std::size_t first = 0; first < nf; first += kWindow) {
+    const std::size_t count = std::min(kWindow, nf - first);
+    ParallelFor(count, params.threads, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t f = first + begin; f < first + end; ++f)
+        figures[f - first] = FaceFiguresOf(t, f, points, flags.finite, centroid, degenerateArea);
+    });
+    for (std::size_t f = first; f < first + count; ++f)
+      AddFaceFigures(t, f, figures[f - first], params, sums, candidates, r);
+  }
+  FinishShapeFigures(sums, nf, r);
+  return candidates;
 }
 
 } // namespace quality_detail
@@ -356,7 +633,7 @@ TriangleAngles MeshQuality<MeshType>::FaceAngles(const typename MeshType::FaceTy
 
 template <class MeshType>
 std::vector<int> MeshQuality<MeshType>::VertexValences(const MeshType& m) {
-  const quality_detail::Topology t = quality_detail::ReadTopology(m, 0);
+  const EdgeTopology t = ReadEdgeTopology(m, 0);
   std::vector<int> valence(m.vert.size(), 0);
   for (std::size_t v = 0; v < valence.size(); ++v)
     valence[v] = int(t.vertEdgeStart[v + 1] - t.vertEdgeStart[v]);
@@ -365,14 +642,14 @@ std::vector<int> MeshQuality<MeshType>::VertexValences(const MeshType& m) {
 
 template <class MeshType>
 std::vector<bool> MeshQuality<MeshType>::VertexOnBorder(const MeshType& m) {
-  return quality_detail::ReadTopology(m, 0).onBorder;
+  return ReadEdgeTopology(m, 0).onBorder;
 }
 
 template <class MeshType>
 QualityCapture MeshQuality<MeshType>::Capture(const MeshType& m) {
   QualityCapture c;
   c.vertexCount = m.vert.size();
-  quality_detail::ReadFaces(m, c.faces, c.proper);
+  ReadFaceIndices(m, c.faces, c.proper);
   c.points.resize(c.vertexCount);
   c.live.resize(c.vertexCount);
   for (std::size_t v = 0; v < c.vertexCount; ++v) {
@@ -387,331 +664,21 @@ template <class MeshType>
 QualityReport MeshQuality<MeshType>::Compute(QualityCapture capture, const Params& params) {
   using namespace quality_detail;
   QualityReport r;
-  Topology t;
+  EdgeTopology t;
   t.vertexCount = capture.vertexCount;
   t.faces = std::move(capture.faces);
   t.proper = std::move(capture.proper);
-  BuildTopology(t, params.threads);
-  const std::size_t nv = t.vertexCount;
-  const std::size_t nf = t.faces.size();
-  const std::size_t ne = t.edgeKeys.size();
-
-  // --- Vertices --------------------------------------------------------------------------------
+  BuildEdgeTopology(t, params.threads);
   const std::vector<Point> points = std::move(capture.points);
   const std::vector<bool> live = std::move(capture.live);
-  std::vector<bool> finite(nv, false), referenced(nv, false);
-  for (std::size_t v = 0; v < nv; ++v) {
-    finite[v] = IsFinite(points[v]);
-    if (live[v]) {
-      ++r.vertices;
-      if (!finite[v]) ++r.nonFiniteVertices;
-    }
-  }
-  for (const auto& f : t.faces)
-    for (Index v : f)
-      if (v != kNoIndex) referenced[v] = true;
-  for (std::size_t v = 0; v < nv; ++v)
-    if (live[v] && referenced[v]) ++r.referencedVertices;
-  r.unreferencedVertices = r.vertices - r.referencedVertices;
-  r.faces = nf;
-  r.edges = ne;
 
-  // --- Edges: boundary / non-manifold counts, mean length ------------------------------------
-  std::vector<double> edgeLengths;
-  edgeLengths.reserve(ne);
-  for (std::size_t e = 0; e < ne; ++e) {
-    const Index count = t.EdgeFaceCount(e);
-    if (count == 1) ++r.boundaryEdges;
-    if (count > 2) ++r.nonManifoldEdges;
-    const Index a = t.EdgeV0(e), b = t.EdgeV1(e);
-    if (finite[a] && finite[b]) edgeLengths.push_back((points[a] - points[b]).Norm());
-  }
-  if (!edgeLengths.empty()) {
-    r.meanEdgeLength =
-        std::accumulate(edgeLengths.begin(), edgeLengths.end(), 0.0) / double(edgeLengths.size());
-    const auto middle = edgeLengths.begin() + std::ptrdiff_t(edgeLengths.size() / 2);
-    std::nth_element(edgeLengths.begin(), middle, edgeLengths.end());
-    r.medianEdgeLength = *middle;
-  }
-  edgeLengths = std::vector<double>();
-
-  // --- Components through shared edges -------------------------------------------------------
-  UnionFind faceSets(nf);
-  for (std::size_t e = 0; e < ne; ++e)
-    for (Index k = t.edgeFaceStart[e] + 1; k < t.edgeFaceStart[e + 1]; ++k)
-      faceSets.Unite(t.edgeFaces[t.edgeFaceStart[e]], t.edgeFaces[k]);
-  // Numbered by their lowest face, which is also the union-find root.
-  std::vector<Index> componentOf(nf, kNoIndex);
-  std::vector<ComponentInfo> comps;
-  for (std::size_t f = 0; f < nf; ++f) {
-    if (!t.proper[f]) continue;
-    const Index root = faceSets.Find(Index(f));
-    if (root == f) {
-      componentOf[f] = Index(comps.size());
-      comps.emplace_back();
-    } else {
-      componentOf[f] = componentOf[root];
-    }
-    ++comps[componentOf[f]].faces;
-  }
-
-  // --- Vertex fans: non-manifold vertices and the pairing of boundary edges into loops ---------
-  // At a vertex whose edges are all manifold or boundary, the incident faces split into fans
-  // joined through two-face edges; an open fan has exactly two boundary edges, which are
-  // consecutive edges of one boundary loop. Boundary edges at vertices where this does not hold
-  // (non-manifold edges) are "broken" and their polylines are not counted as loops.
-  // The vertices are judged in parallel. What concerns shared records (a component made
-  // non-manifold, a boundary edge broken, two boundary edges linked) is collected per thread and
-  // applied afterwards; applying it does not depend on the order (flags, and a union-find whose
-  // roots are the smallest members), so neither does the result on the thread count.
-  std::vector<char> nonManifoldVertex(nv, 0); // char, not bool: written concurrently
-  UnionFind boundaryLinks(ne);
-  std::vector<bool> brokenBoundary(ne, false);
-  {
-    struct FanScratch {
-      std::vector<Index> localParent;
-      std::vector<std::pair<Index, Index>> fanBoundary; // (fan root, boundary edge)
-      std::vector<Index> fanComponents;
-      std::vector<Index> nonManifoldComponents, broken; // to apply afterwards
-      std::vector<std::pair<Index, Index>> links;       // boundary edges to unite afterwards
-    };
-    std::vector<FanScratch> scratch(std::size_t(ResolveThreadCount(params.threads)));
-    ParallelFor(nv, params.threads, [&](std::size_t vBegin, std::size_t vEnd, int thread) {
-      FanScratch& own = scratch[std::size_t(thread)];
-      std::vector<Index>& localParent = own.localParent;
-      std::vector<std::pair<Index, Index>>& fanBoundary = own.fanBoundary;
-      std::vector<Index>& fanComponents = own.fanComponents;
-      for (std::size_t v = vBegin; v < vEnd; ++v) {
-        const Index fBegin = t.vertFaceStart[v], fEnd = t.vertFaceStart[v + 1];
-        if (fBegin == fEnd) continue;
-        const Index eBegin = t.vertEdgeStart[v], eEnd = t.vertEdgeStart[v + 1];
-        if (t.onNonManifoldEdge[v]) {
-          for (Index k = eBegin; k < eEnd; ++k)
-            if (t.EdgeFaceCount(t.vertEdges[k]) == 1) own.broken.push_back(t.vertEdges[k]);
-          continue;
-        }
-        const auto facesBegin = t.vertFaces.begin() + fBegin, facesEnd = t.vertFaces.begin() + fEnd;
-        auto local = [&](Index f) { return Index(std::lower_bound(facesBegin, facesEnd, f) - facesBegin); };
-        localParent.resize(fEnd - fBegin);
-        std::iota(localParent.begin(), localParent.end(), Index(0));
-        auto find = [&](Index x) {
-          while (localParent[x] != x) x = localParent[x] = localParent[localParent[x]];
-          return x;
-        };
-        fanBoundary.clear();
-        for (Index k = eBegin; k < eEnd; ++k) {
-          const Index e = t.vertEdges[k];
-          const Index* ef = &t.edgeFaces[t.edgeFaceStart[e]];
-          if (t.EdgeFaceCount(e) == 2) {
-            const Index a = find(local(ef[0])), b = find(local(ef[1]));
-            if (a != b) localParent[std::max(a, b)] = std::min(a, b);
-          }
-        }
-        std::size_t fans = 0;
-        for (Index i = 0; i < localParent.size(); ++i)
-          if (find(i) == i) ++fans;
-        if (fans > 1) {
-          nonManifoldVertex[v] = 1;
-          // Two fans of the same component make that component non-manifold; fans of different
-          // components only mean the components touch there (each is manifold on its own).
-          fanComponents.clear();
-          for (Index i = 0; i < localParent.size(); ++i)
-            if (find(i) == i) fanComponents.push_back(componentOf[t.vertFaces[fBegin + i]]);
-          std::sort(fanComponents.begin(), fanComponents.end());
-          for (std::size_t i = 1; i < fanComponents.size(); ++i)
-            if (fanComponents[i] == fanComponents[i - 1])
-              own.nonManifoldComponents.push_back(fanComponents[i]);
-        }
-        for (Index k = eBegin; k < eEnd; ++k) {
-          const Index e = t.vertEdges[k];
-          if (t.EdgeFaceCount(e) == 1)
-            fanBoundary.emplace_back(find(local(t.edgeFaces[t.edgeFaceStart[e]])), e);
-        }
-        std::sort(fanBoundary.begin(), fanBoundary.end());
-        for (std::size_t i = 0; i < fanBoundary.size();) {
-          std::size_t j = i;
-          while (j < fanBoundary.size() && fanBoundary[j].first == fanBoundary[i].first) ++j;
-          if (j - i == 2)
-            own.links.emplace_back(fanBoundary[i].second, fanBoundary[i + 1].second);
-          else
-            for (std::size_t k = i; k < j; ++k) own.broken.push_back(fanBoundary[k].second);
-          i = j;
-        }
-      }
-    });
-    for (const FanScratch& own : scratch) {
-      for (Index c : own.nonManifoldComponents) comps[c].manifold = false;
-      for (Index e : own.broken) brokenBoundary[e] = true;
-      for (const auto& [a, b] : own.links) boundaryLinks.Unite(a, b);
-    }
-  }
-  for (std::size_t v = 0; v < nv; ++v)
-    if (nonManifoldVertex[v]) ++r.nonManifoldVertices;
-
-  std::vector<long long> compVertices(comps.size(), 0), compEdges(comps.size(), 0);
-  for (std::size_t e = 0; e < ne; ++e) {
-    const Index c = componentOf[t.edgeFaces[t.edgeFaceStart[e]]];
-    ++compEdges[c];
-    if (t.EdgeFaceCount(e) == 1) ++comps[c].boundaryEdges;
-    if (t.EdgeFaceCount(e) > 2) comps[c].manifold = false;
-  }
-  std::size_t topologyVertices = 0;
-  {
-    std::vector<Index> vertexComps;
-    for (std::size_t v = 0; v < nv; ++v) {
-      const Index fBegin = t.vertFaceStart[v], fEnd = t.vertFaceStart[v + 1];
-      if (fBegin == fEnd) continue;
-      ++topologyVertices;
-      vertexComps.clear();
-      for (Index k = fBegin; k < fEnd; ++k) vertexComps.push_back(componentOf[t.vertFaces[k]]);
-      std::sort(vertexComps.begin(), vertexComps.end());
-      vertexComps.erase(std::unique(vertexComps.begin(), vertexComps.end()), vertexComps.end());
-      for (Index c : vertexComps) ++compVertices[c];
-    }
-  }
-  // Boundary loops: classes of linked boundary edges without a broken edge.
-  {
-    std::vector<bool> classBroken(ne, false);
-    for (std::size_t e = 0; e < ne; ++e)
-      if (t.EdgeFaceCount(e) == 1 && brokenBoundary[e]) classBroken[boundaryLinks.Find(Index(e))] = true;
-    for (std::size_t e = 0; e < ne; ++e)
-      if (t.EdgeFaceCount(e) == 1 && boundaryLinks.Find(Index(e)) == e && !classBroken[e]) {
-        ++r.boundaryLoops;
-        ++comps[componentOf[t.edgeFaces[t.edgeFaceStart[e]]]].boundaryLoops;
-      }
-  }
-  r.euler = int(topologyVertices) - int(ne) + int(std::count(t.proper.begin(), t.proper.end(), true));
-  r.genus = 0;
-  for (std::size_t c = 0; c < comps.size(); ++c) {
-    ComponentInfo& info = comps[c];
-    info.euler = int(compVertices[c] - compEdges[c] + (long long)info.faces);
-    info.closed = info.manifold && info.boundaryEdges == 0;
-    const int twiceGenus = 2 - info.euler - int(info.boundaryLoops);
-    info.genus = (info.manifold && twiceGenus >= 0 && twiceGenus % 2 == 0) ? twiceGenus / 2 : -1;
-    if (info.genus < 0)
-      r.genus = -1;
-    else if (r.genus >= 0)
-      r.genus += info.genus;
-  }
-  std::stable_sort(comps.begin(), comps.end(),
-                   [](const ComponentInfo& a, const ComponentInfo& b) { return a.faces > b.faces; });
-  r.components = comps.size();
-  r.componentInfo = std::move(comps);
-
-  // --- Valence of interior vertices ----------------------------------------------------------
-  for (std::size_t v = 0; v < nv; ++v) {
-    const int valence = int(t.vertEdgeStart[v + 1] - t.vertEdgeStart[v]);
-    if (!live[v] || valence == 0 || t.onBorder[v]) continue;
-    ++r.interiorVertices;
-    ++r.valenceHistogram[valence];
-    if (valence >= 5 && valence <= 7) ++r.regularVertices;
-  }
-  r.v567Percent =
-      r.interiorVertices > 0 ? 100.0 * double(r.regularVertices) / double(r.interiorVertices) : 100.0;
-
-  // --- Triangle shape, area, volume -----------------------------------------------------------
-  Point centroid(0, 0, 0);
-  std::size_t centroidCount = 0;
-  for (std::size_t v = 0; v < nv; ++v)
-    if (live[v] && referenced[v] && finite[v]) {
-      centroid += points[v];
-      ++centroidCount;
-    }
-  if (centroidCount > 0) centroid /= double(centroidCount);
-
-  const double degenerateArea = params.degenerateAreaEpsilon * r.medianEdgeLength * r.medianEdgeLength;
-  const double infinity = std::numeric_limits<double>::infinity();
-  double qSum = 0, minAngleSum = 0, arSum = 0, arSumNonDegenerate = 0, volumeSum = 0;
-  r.qMin = infinity;
-  r.angleMin = infinity;
-  r.angleMax = -infinity;
-  r.aspectRatioMax = 0;
-  std::vector<std::array<Index, 3>> candidates; // non-degenerate faces, for self-intersections
-  candidates.reserve(nf);
-  {
-    // The shapes (three atan2 each) are computed in parallel, one record per face of a window of
-    // faces; the sums are then taken serially in face order, so they are the same to the last bit
-    // for any thread count. A reused window, because records for the whole mesh would cost more
-    // in page faults than the parallel loop saves.
-    struct FaceFigures {
-      double q, minAngle, maxAngle, aspectRatio, area, volume;
-      bool degenerate, counted; ///< counted: finite corners, the area and volume terms count
-    };
-    constexpr std::size_t kWindow = std::size_t(1) << 15;
-    std::vector<FaceFigures> figures(std::min(nf, kWindow));
-    for (std::size_t first = 0; first < nf; first += kWindow) {
-      const std::size_t count = std::min(kWindow, nf - first);
-      ParallelFor(count, params.threads, [&](std::size_t begin, std::size_t end, int) {
-        for (std::size_t f = first + begin; f < first + end; ++f) {
-          FaceFigures& x = figures[f - first];
-          TriangleShape shape;
-          x.counted = false;
-          x.volume = 0;
-          if (t.proper[f]) {
-            const auto& tri = t.faces[f];
-            shape = ShapeOf(points[tri[0]], points[tri[1]], points[tri[2]], degenerateArea);
-            if (finite[tri[0]] && finite[tri[1]] && finite[tri[2]]) {
-              x.counted = true;
-              x.volume =
-                  (points[tri[0]] - centroid) * ((points[tri[1]] - centroid) ^ (points[tri[2]] - centroid));
-            }
-          }
-          if (shape.degenerate) {
-            shape.angles = {0.0, 0.0, 180.0};
-            shape.q = 0;
-            shape.aspectRatio = infinity;
-          }
-          x.q = shape.q;
-          x.minAngle = std::min({shape.angles[0], shape.angles[1], shape.angles[2]});
-          x.maxAngle = std::max({shape.angles[0], shape.angles[1], shape.angles[2]});
-          x.aspectRatio = shape.aspectRatio;
-          x.area = shape.area;
-          x.degenerate = shape.degenerate;
-        }
-      });
-      for (std::size_t f = first; f < first + count; ++f) {
-        const FaceFigures& x = figures[f - first];
-        if (t.proper[f]) {
-          if (x.counted) {
-            r.area += x.area;
-            volumeSum += x.volume;
-          }
-          if (!x.degenerate) candidates.push_back(t.faces[f]);
-        }
-        if (x.degenerate) {
-          ++r.degenerateFaces;
-        } else {
-          arSumNonDegenerate += x.aspectRatio;
-        }
-        qSum += x.q;
-        minAngleSum += x.minAngle;
-        arSum += x.aspectRatio;
-        r.qMin = std::min(r.qMin, x.q);
-        r.angleMin = std::min(r.angleMin, x.minAngle);
-        r.angleMax = std::max(r.angleMax, x.maxAngle);
-        r.aspectRatioMax = std::max(r.aspectRatioMax, x.aspectRatio);
-        if (x.minAngle < params.smallAngle) ++r.smallAngleFaces;
-        if (x.maxAngle >= params.obtuseAngle) ++r.obtuseFaces;
-        if (x.maxAngle > params.largeAngle) ++r.largeAngleFaces;
-      }
-    }
-  }
-  r.volume = volumeSum / 6.0;
-  if (nf > 0) {
-    const double count = double(nf);
-    r.qAvg = qSum / count;
-    r.meanMinAngle = minAngleSum / count;
-    r.aspectRatioMean = arSum / count;
-    r.smallAnglePercent = 100.0 * double(r.smallAngleFaces) / count;
-    r.obtusePercent = 100.0 * double(r.obtuseFaces) / count;
-    r.largeAnglePercent = 100.0 * double(r.largeAngleFaces) / count;
-  } else {
-    r.qMin = r.angleMin = r.angleMax = 0;
-  }
-  const std::size_t nonDegenerate = nf - r.degenerateFaces;
-  r.aspectRatioMeanNonDegenerate = nonDegenerate > 0 ? arSumNonDegenerate / double(nonDegenerate) : 0.0;
-
-  // --- Self-intersections ----------------------------------------------------------------------
+  const VertexFlags flags = CountVertices(t, points, live, r);
+  r.faces = t.faces.size();
+  r.edges = t.edgeKeys.size();
+  MeasureEdges(t, points, flags.finite, r);
+  MeasureTopology(t, params.threads, r);
+  MeasureValence(t, live, r);
+  const std::vector<std::array<Index, 3>> candidates = MeasureShapes(t, points, live, flags, params, r);
   if (params.computeSelfIntersections) {
     const IntersectionCounts counts =
         CountSelfIntersections(candidates, points, r.medianEdgeLength, params.threads);

@@ -124,6 +124,14 @@ inline double TriangleDistance2(const Point& p, const Point& a, const Point& b, 
 }
 
 /// A triangle soup in double precision with a uniform grid for exact closest-point queries.
+///
+/// One of the project's face grids, each kept for what it is asked: FaceHashGrid
+/// (spatial/face_hash_grid.h) is dynamic, updated per local edit, and stores float boxes that may
+/// report a few extra faces; TrianglePairScan (spatial/triangle_pair_scan.h) sorts all triangles
+/// once to find intersecting pairs of moved faces; FindSelfIntersections
+/// (spatial/self_intersections.h) hashes cells by wrapped keys for an all-pairs test. This one is
+/// static, double precision and answers nearest-point queries, searching rings of cells outward;
+/// its candidates and their order feed the distances, so it is not merged with the others.
 /// Build once, then query from any number of threads (each with its own QueryScratch).
 class TriangleGrid {
 public:
