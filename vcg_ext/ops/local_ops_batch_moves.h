@@ -121,29 +121,26 @@ BatchMoveResult LocalRemeshingOps<MeshType>::MoveVerticesJacobi(const std::vecto
 }
 
 template <class MeshType>
-BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
-  BatchMoveResult result;
-  if (batch_.empty()) return result;
-  if (threads <= 0) threads = threads_;
-  // Faces to verify: the stars of the moved vertices, in increasing index order.
-  auto collectStars = [&](auto&& vertexList) {
-    NewStamp();
-    dirty_.clear();
-    for (const std::uint32_t vi : vertexList)
-      for (vcg::face::VFIterator<FaceType> it(&m_.vert[vi]); !it.End(); ++it) {
-        const std::size_t fi = FIndex(*it.F());
-        if (faceStamp_[fi] != stamp_) {
-          faceStamp_[fi] = stamp_;
-          dirty_.push_back(fi);
-        }
+void LocalRemeshingOps<MeshType>::CollectStarFaces(const std::vector<std::uint32_t>& vertices) {
+  NewStamp();
+  dirty_.clear();
+  for (const std::uint32_t vi : vertices)
+    for (vcg::face::VFIterator<FaceType> it(&m_.vert[vi]); !it.End(); ++it) {
+      const std::size_t fi = FIndex(*it.F());
+      if (faceStamp_[fi] != stamp_) {
+        faceStamp_[fi] = stamp_;
+        dirty_.push_back(fi);
       }
-    std::sort(dirty_.begin(), dirty_.end());
-  };
-  const int nThreads = ResolveThreadCount(threads);
+    }
+  std::sort(dirty_.begin(), dirty_.end());
+}
+
+template <class MeshType>
+void LocalRemeshingOps<MeshType>::CollectBatchFaces(int threads) {
   if (4 * batch_.size() > std::size_t(m_.vn)) {
     // Most vertices moved: one parallel pass over the faces finds the changed ones.
     NewStamp();
-    ParallelFor(m_.face.size(), nThreads, [&](std::size_t begin, std::size_t end, int) {
+    ParallelFor(m_.face.size(), threads, [&](std::size_t begin, std::size_t end, int) {
       for (std::size_t fi = begin; fi < end; ++fi)
         if (!m_.face[fi].IsD() && MovedInBatch(m_.face[fi])) faceStamp_[fi] = stamp_;
     });
@@ -154,41 +151,98 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
     std::vector<std::uint32_t> moved;
     moved.reserve(batch_.size());
     for (const BatchEntry& b : batch_) moved.push_back(b.vertex);
-    collectStars(moved);
+    CollectStarFaces(moved);
   }
+}
+
+template <class MeshType>
+void LocalRemeshingOps<MeshType>::UpdateDirtyBoxes(int threads) {
+  updateInPlace_.assign(dirty_.size(), 0);
+  ParallelFor(dirty_.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i)
+      updateInPlace_[i] = grid_.UpdateInPlace(dirty_[i], FaceBox(m_.face[dirty_[i]])) ? 1 : 0;
+  });
+  for (std::size_t i = 0; i < dirty_.size(); ++i)
+    if (!updateInPlace_[i]) grid_.Update(dirty_[i], FaceBox(m_.face[dirty_[i]]));
+}
+
+template <class MeshType>
+void LocalRemeshingOps<MeshType>::BuildBatchScan(int threads) {
+  scanPositions_.resize(m_.vert.size());
+  ParallelFor(m_.vert.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t vi = begin; vi < end; ++vi) scanPositions_[vi] = Pos(&m_.vert[vi]);
+  });
+  scan_.Build(
+      m_.face.size(), scanPositions_.data(),
+      [&](std::size_t fi, TrianglePairScan::Triangle& t) {
+        const FaceType& f = m_.face[fi];
+        if (f.IsD()) return;
+        t.live = true;
+        t.moved = MovedInBatch(f);
+        for (int k = 0; k < 3; ++k) t.v[k] = std::uint32_t(VIndex(*f.cV(k)));
+      },
+      threads);
+}
+
+template <class MeshType>
+void LocalRemeshingOps<MeshType>::FindBatchScanPairs(int threads) {
+  // Pairs sharing an edge are never reported, and pairs sharing one vertex are settled star by
+  // star: none of them can meet when the star is a simple fan, which nearly every star is.
+  scan_.FindPairs(
+      threads,
+      [&](std::uint32_t a, std::uint32_t b) {
+        return local_ops_detail::FacesIntersect(scan_.Corners(a), scan_.Normal(a), scan_.Input(a).v,
+                                                scan_.Corners(b), scan_.Normal(b), scan_.Input(b).v, margin_);
+      },
+      scanPairs_, /*skipSharedVertex=*/true);
+  StarPairs(scan_, threads, scanPairs_);
+  std::sort(scanPairs_.begin(), scanPairs_.end());
+  scanPairs_.erase(std::unique(scanPairs_.begin(), scanPairs_.end()), scanPairs_.end());
+}
+
+template <class MeshType>
+void LocalRemeshingOps<MeshType>::RevertFailingFaces(std::vector<std::uint32_t>& reverted) {
+  reverted.clear();
+  auto revertFace = [&](const FaceType& f) {
+    for (int k = 0; k < 3; ++k) {
+      const int b = batchIndex_[VIndex(*f.cV(k))];
+      if (b < 0 || !batch_[b].atTarget) continue;
+      BatchEntry& e = batch_[b];
+      e.atTarget = false;
+      m_.vert[e.vertex].P() = e.old;
+      foot_[e.vertex] = e.oldFoot;
+      reverted.push_back(e.vertex);
+    }
+  };
+  for (std::size_t i = 0; i < dirty_.size(); ++i) {
+    if (!verdicts_[i].fail) continue;
+    revertFace(m_.face[dirty_[i]]);
+    if (verdicts_[i].partner >= 0) revertFace(m_.face[verdicts_[i].partner]);
+  }
+  for (const auto& [a, b] : scanPairs_) {
+    revertFace(m_.face[a]);
+    revertFace(m_.face[b]);
+  }
+}
+
+template <class MeshType>
+BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
+  BatchMoveResult result;
+  if (batch_.empty()) return result;
+  if (threads <= 0) threads = threads_;
+  const int nThreads = ResolveThreadCount(threads);
+  CollectBatchFaces(nThreads);
   if (int(marks_.size()) < nThreads) marks_.resize(nThreads);
   std::vector<std::uint32_t> reverted;
   while (!dirty_.empty()) {
     ++result.rounds;
-    // Boxes that stay in their cells are updated in parallel, the others in order.
-    updateInPlace_.assign(dirty_.size(), 0);
-    ParallelFor(dirty_.size(), nThreads, [&](std::size_t begin, std::size_t end, int) {
-      for (std::size_t i = begin; i < end; ++i)
-        updateInPlace_[i] = grid_.UpdateInPlace(dirty_[i], FaceBox(m_.face[dirty_[i]])) ? 1 : 0;
-    });
-    for (std::size_t i = 0; i < dirty_.size(); ++i)
-      if (!updateInPlace_[i]) grid_.Update(dirty_[i], FaceBox(m_.face[dirty_[i]]));
+    UpdateDirtyBoxes(nThreads);
     // When most faces changed, one sweep over all of them finds the intersecting pairs faster
     // than a grid query per face.
     const bool sweep = guards_.checkIntersections && 4 * dirty_.size() > std::size_t(m_.fn);
     scanPairs_.clear();
     // The sweep's scan is built first: the per-face guards read its normals and moved flags.
-    if (sweep) {
-      scanPositions_.resize(m_.vert.size());
-      ParallelFor(m_.vert.size(), nThreads, [&](std::size_t begin, std::size_t end, int) {
-        for (std::size_t vi = begin; vi < end; ++vi) scanPositions_[vi] = Pos(&m_.vert[vi]);
-      });
-      scan_.Build(
-          m_.face.size(), scanPositions_.data(),
-          [&](std::size_t fi, TrianglePairScan::Triangle& t) {
-            const FaceType& f = m_.face[fi];
-            if (f.IsD()) return;
-            t.live = true;
-            t.moved = MovedInBatch(f);
-            for (int k = 0; k < 3; ++k) t.v[k] = std::uint32_t(VIndex(*f.cV(k)));
-          },
-          nThreads);
-    }
+    if (sweep) BuildBatchScan(nThreads);
     verdicts_.assign(dirty_.size(), FaceVerdict());
     ParallelFor(
         dirty_.size(), nThreads,
@@ -197,45 +251,10 @@ BatchMoveResult LocalRemeshingOps<MeshType>::VerifyPendingMoves(int threads) {
             verdicts_[i] = VerifyBatchFace(dirty_[i], marks_[t], !sweep, sweep ? &scan_ : nullptr);
         },
         256);
-    if (sweep) {
-      // Pairs without a common vertex: the scan. Pairs sharing an edge are never reported, and
-      // pairs sharing one vertex are settled star by star: none of them can meet when the star
-      // is a simple fan, which nearly every star is.
-      scan_.FindPairs(
-          nThreads,
-          [&](std::uint32_t a, std::uint32_t b) {
-            return local_ops_detail::FacesIntersect(scan_.Corners(a), scan_.Normal(a), scan_.Input(a).v,
-                                                    scan_.Corners(b), scan_.Normal(b), scan_.Input(b).v,
-                                                    margin_);
-          },
-          scanPairs_, /*skipSharedVertex=*/true);
-      StarPairs(scan_, nThreads, scanPairs_);
-      std::sort(scanPairs_.begin(), scanPairs_.end());
-      scanPairs_.erase(std::unique(scanPairs_.begin(), scanPairs_.end()), scanPairs_.end());
-    }
-    reverted.clear();
-    auto revertFace = [&](const FaceType& f) {
-      for (int k = 0; k < 3; ++k) {
-        const int b = batchIndex_[VIndex(*f.cV(k))];
-        if (b < 0 || !batch_[b].atTarget) continue;
-        BatchEntry& e = batch_[b];
-        e.atTarget = false;
-        m_.vert[e.vertex].P() = e.old;
-        foot_[e.vertex] = e.oldFoot;
-        reverted.push_back(e.vertex);
-      }
-    };
-    for (std::size_t i = 0; i < dirty_.size(); ++i) {
-      if (!verdicts_[i].fail) continue;
-      revertFace(m_.face[dirty_[i]]);
-      if (verdicts_[i].partner >= 0) revertFace(m_.face[verdicts_[i].partner]);
-    }
-    for (const auto& [a, b] : scanPairs_) {
-      revertFace(m_.face[a]);
-      revertFace(m_.face[b]);
-    }
+    if (sweep) FindBatchScanPairs(nThreads);
+    RevertFailingFaces(reverted);
     if (reverted.empty()) break;
-    collectStars(reverted);
+    CollectStarFaces(reverted);
   }
   for (const BatchEntry& b : batch_) {
     batchIndex_[b.vertex] = -1;

@@ -6,6 +6,50 @@
 namespace molremesh {
 
 template <class MeshType>
+void LocalRemeshingOps<MeshType>::GlueAcross(FacePointer face, int e) {
+  FacePointer a = face->FFp((e + 1) % 3);
+  const int ia = face->FFi((e + 1) % 3);
+  FacePointer b = face->FFp((e + 2) % 3);
+  const int ib = face->FFi((e + 2) % 3);
+  const bool aBorder = a == face, bBorder = b == face;
+  if (!aBorder && !bBorder) {
+    a->FFp(ia) = b;
+    a->FFi(ia) = ib;
+    b->FFp(ib) = a;
+    b->FFi(ib) = ia;
+  } else if (aBorder) {
+    b->FFp(ib) = b;
+    b->FFi(ib) = ib;
+  } else {
+    a->FFp(ia) = a;
+    a->FFi(ia) = ia;
+  }
+}
+
+template <class MeshType>
+void LocalRemeshingOps<MeshType>::ApplyCollapse(FacePointer f, int z, FacePointer g, int w, VertexPointer vr,
+                                                VertexPointer vk, const CoordType& stored, int footK) {
+  // Apply: glue the faces around f and g, then move vr's faces to vk.
+  GlueAcross(f, z);
+  if (g != nullptr) GlueAcross(g, w);
+  vcg::face::VFDetach(*f);
+  if (g != nullptr) vcg::face::VFDetach(*g);
+  for (const auto& [face, k] : star0_) {
+    if (face == f || face == g) continue;
+    vcg::face::VFDetach(*face, k);
+    face->V(k) = vk;
+    VFAppend(face, k);
+  }
+  Release(*f);
+  if (g != nullptr) Release(*g);
+  Release(*vr);
+  vk->P() = stored;
+  foot_[VIndex(*vk)] = footK;
+  for (const FacePointer face : oldFaces_)
+    if (!face->IsD()) grid_.Update(FIndex(*face), FaceBox(*face));
+}
+
+template <class MeshType>
 bool LocalRemeshingOps<MeshType>::CollapseEdge(FacePointer f, int z, double maxNewEdgeLength) {
   if (HasPendingMoves()) VerifyPendingMoves();
   const bool edgeBorder = IsBorder(*f, z);
@@ -101,43 +145,7 @@ bool LocalRemeshingOps<MeshType>::CollapseEdge(FacePointer f, int z, double maxN
   const OpRefusal r = CheckRegion(maxNewEdgeLength, vk);
   if (r != OpRefusal::None) return Refuse(r), false;
 
-  // Apply: glue the faces around f and g, then move vr's faces to vk.
-  auto glue = [](FacePointer face, int e) {
-    FacePointer a = face->FFp((e + 1) % 3);
-    const int ia = face->FFi((e + 1) % 3);
-    FacePointer b = face->FFp((e + 2) % 3);
-    const int ib = face->FFi((e + 2) % 3);
-    const bool aBorder = a == face, bBorder = b == face;
-    if (!aBorder && !bBorder) {
-      a->FFp(ia) = b;
-      a->FFi(ia) = ib;
-      b->FFp(ib) = a;
-      b->FFi(ib) = ia;
-    } else if (aBorder) {
-      b->FFp(ib) = b;
-      b->FFi(ib) = ib;
-    } else {
-      a->FFp(ia) = a;
-      a->FFi(ia) = ia;
-    }
-  };
-  glue(f, z);
-  if (g != nullptr) glue(g, w);
-  vcg::face::VFDetach(*f);
-  if (g != nullptr) vcg::face::VFDetach(*g);
-  for (const auto& [face, k] : starR) {
-    if (face == f || face == g) continue;
-    vcg::face::VFDetach(*face, k);
-    face->V(k) = vk;
-    VFAppend(face, k);
-  }
-  Release(*f);
-  if (g != nullptr) Release(*g);
-  Release(*vr);
-  vk->P() = stored;
-  foot_[VIndex(*vk)] = footK;
-  for (const FacePointer face : oldFaces_)
-    if (!face->IsD()) grid_.Update(FIndex(*face), FaceBox(*face));
+  ApplyCollapse(f, z, g, w, vr, vk, stored, footK);
   ++stats_.collapses;
   lastRefusal_ = OpRefusal::None;
   return true;

@@ -6,6 +6,36 @@
 namespace molremesh {
 
 template <class MeshType>
+typename MeshType::FacePointer LocalRemeshingOps<MeshType>::SplitOffFace(FacePointer f, int z,
+                                                                         VertexPointer mv, VertexPointer b,
+                                                                         VertexPointer c) {
+  const int z1 = (z + 1) % 3;
+  FacePointer fa = f->FFp(z1);
+  const int ia = f->FFi(z1);
+  const FacePointer f2 = TakeFreeFace();
+  f2->ImportData(*f);
+  vcg::face::VFDetach(*f, z1);
+  f->V(z1) = mv;
+  f2->V(0) = mv;
+  f2->V(1) = b;
+  f2->V(2) = c;
+  f->FFp(z1) = f2;
+  f->FFi(z1) = 2;
+  f2->FFp(2) = f;
+  f2->FFi(2) = z1;
+  if (fa == f) {
+    f2->FFp(1) = f2;
+    f2->FFi(1) = 1;
+  } else {
+    f2->FFp(1) = fa;
+    f2->FFi(1) = ia;
+    fa->FFp(ia) = f2;
+    fa->FFi(ia) = 1;
+  }
+  return f2;
+}
+
+template <class MeshType>
 typename MeshType::VertexPointer LocalRemeshingOps<MeshType>::SplitEdge(FacePointer f, int z) {
   if (HasPendingMoves()) VerifyPendingMoves();
   EnsureFree(1, 2, f);
@@ -66,28 +96,7 @@ typename MeshType::VertexPointer LocalRemeshingOps<MeshType>::SplitEdge(FacePoin
   locked_[VIndex(*mv)] = 0;
 
   const int z1 = (z + 1) % 3;
-  FacePointer fa = f->FFp(z1);
-  const int ia = f->FFi(z1);
-  const FacePointer f2 = TakeFreeFace();
-  f2->ImportData(*f);
-  vcg::face::VFDetach(*f, z1);
-  f->V(z1) = mv;
-  f2->V(0) = mv;
-  f2->V(1) = v1;
-  f2->V(2) = v2;
-  f->FFp(z1) = f2;
-  f->FFi(z1) = 2;
-  f2->FFp(2) = f;
-  f2->FFi(2) = z1;
-  if (fa == f) {
-    f2->FFp(1) = f2;
-    f2->FFi(1) = 1;
-  } else {
-    f2->FFp(1) = fa;
-    f2->FFi(1) = ia;
-    fa->FFp(ia) = f2;
-    fa->FFi(ia) = 1;
-  }
+  const FacePointer f2 = SplitOffFace(f, z, mv, v1, v2);
   FacePointer g2 = nullptr;
   if (border) {
     f->FFp(z) = f;
@@ -95,29 +104,7 @@ typename MeshType::VertexPointer LocalRemeshingOps<MeshType>::SplitEdge(FacePoin
     f2->FFp(0) = f2;
     f2->FFi(0) = 0;
   } else {
-    const int w1 = (w + 1) % 3;
-    FacePointer gb = g->FFp(w1);
-    const int ib = g->FFi(w1);
-    g2 = TakeFreeFace();
-    g2->ImportData(*g);
-    vcg::face::VFDetach(*g, w1);
-    g->V(w1) = mv;
-    g2->V(0) = mv;
-    g2->V(1) = v0;
-    g2->V(2) = v3;
-    g->FFp(w1) = g2;
-    g->FFi(w1) = 2;
-    g2->FFp(2) = g;
-    g2->FFi(2) = w1;
-    if (gb == g) {
-      g2->FFp(1) = g2;
-      g2->FFi(1) = 1;
-    } else {
-      g2->FFp(1) = gb;
-      g2->FFi(1) = ib;
-      gb->FFp(ib) = g2;
-      gb->FFi(ib) = 1;
-    }
+    g2 = SplitOffFace(g, w, mv, v0, v3);
     f->FFp(z) = g2;
     f->FFi(z) = 0;
     g2->FFp(0) = f;

@@ -88,7 +88,7 @@ inline bool StarIsSimpleFan(const Point& center, const std::pair<Point, Point>* 
     const Point pu = u - d * (u * d), pv = v - d * (v * d);
     turn += std::atan2((pu ^ pv) * d, pu * pv);
   }
-  const double twoPi = 2.0 * 3.14159265358979323846;
+  const double twoPi = 2.0 * kPi;
   return boundary ? turn < twoPi - 1e-6 : std::fabs(turn - twoPi) < 1e-6;
 }
 

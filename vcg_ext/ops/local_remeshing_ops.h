@@ -45,6 +45,14 @@
 // per-vertex/per-face VF adjacency available (Init recomputes both), no face with a repeated
 // vertex. Element pointers stay valid across operations except when a split needs more room;
 // indices are stable until Finish(), which compacts the mesh. Deleted elements are recycled.
+//
+// Layout: this header declares the class; its member definitions live in one header per concern
+// (local_ops_setup.h, local_ops_element_pool.h, local_ops_queries.h, local_ops_checks.h,
+// local_ops_batch_moves.h, local_ops_relocate.h, local_ops_edge_split.h, local_ops_edge_collapse.h,
+// local_ops_edge_flip.h, local_ops_replace_disk.h), included at the end. It stays one class of
+// more than 600 lines in all because every operation reads and writes the same transactional
+// state: the free lists, the stamps, the per-vertex footpoints and locks, the intersection grid,
+// the pending batch and the faces under check; split into components they would all share it.
 #pragma once
 
 #include <vcg/complex/complex.h>
@@ -373,6 +381,56 @@ private:
   /// and moved flags are read from it instead of being computed again.
   FaceVerdict VerifyBatchFace(std::size_t fi, FaceHashGrid::QueryMarks& marks, bool intersections,
                               const TrianglePairScan* scan = nullptr) const;
+  // Steps of CollapseEdge.
+  /// Makes the two neighbours of `face` across its sides other than e neighbours of each other
+  /// (or border sides when one of them is a border), before `face` is dropped.
+  static void GlueAcross(FacePointer face, int e);
+  /// Applies a checked collapse of edge z of f (g, w: the other side, or nullptr): f and g are
+  /// dropped, the faces of the removed vertex vr's star (star0_) move to vk, which goes to stored.
+  void ApplyCollapse(FacePointer f, int z, FacePointer g, int w, VertexPointer vr, VertexPointer vk,
+                     const CoordType& stored, int footK);
+  /// Step of SplitEdge: f = (a, b, c) with edge z = (a, b) becomes (a, mv, c) and the new face
+  /// (mv, b, c) it returns takes its other part, linked to f (side 2) and to f's old neighbour
+  /// across (b, c) (side 1); side 0 is left to the caller.
+  FacePointer SplitOffFace(FacePointer f, int z, VertexPointer mv, VertexPointer b, VertexPointer c);
+  // Steps of ReplaceDisk.
+  static bool IsLoopEdge(int a, int b, std::size_t n) {
+    return a < int(n) && b < int(n) && (a + 1) % int(n) == b;
+  }
+  /// Whether `triangles` (indices into the loop, then the new vertices; `total` in all) cover the
+  /// disk inside `loop` once, without a chord that exists outside the region (faceStamp_) or joins
+  /// two locked vertices; the refusal reason otherwise.
+  OpRefusal CheckDiskTriangulation(const std::vector<VertexPointer>& loop,
+                                   const std::vector<std::array<int, 3>>& triangles, std::size_t total) const;
+  /// Positions and footpoints of the loop vertices and of the new vertices projected on the
+  /// reference from the nearest loop vertex's footpoint (stored: their coordinates); false when a
+  /// projection fails.
+  bool PlaceDiskVertices(const std::vector<VertexPointer>& loop, const std::vector<Point>& newPoints,
+                         std::vector<Point>& pos, std::vector<int>& feet, std::vector<CoordType>& stored);
+  /// Creates the new vertices and faces of a checked replacement, links them to the outside
+  /// neighbours of the loop edges and to each other, and drops the region and its interior vertices.
+  void ApplyDiskReplacement(const std::vector<FacePointer>& region,
+                            const std::vector<VertexPointer>& interior,
+                            const std::vector<VertexPointer>& loop, const std::vector<VertexPointer>& vid,
+                            const std::vector<CoordType>& stored, const std::vector<int>& feet,
+                            const std::vector<std::array<int, 3>>& triangles,
+                            const std::vector<FacePointer>& outFace, const std::vector<int>& outIndex,
+                            std::vector<VertexPointer>* created);
+  // Steps of VerifyPendingMoves.
+  /// dirty_ = the faces of the stars of `vertices`, in increasing index order.
+  void CollectStarFaces(const std::vector<std::uint32_t>& vertices);
+  /// dirty_ = the faces a moved vertex of the batch touches, in increasing index order.
+  void CollectBatchFaces(int threads);
+  /// The grid boxes of the faces in dirty_: those that stay in their cells in parallel, the others in order.
+  void UpdateDirtyBoxes(int threads);
+  /// Builds scan_ over the current faces (positions, live and moved flags).
+  void BuildBatchScan(int threads);
+  /// scanPairs_ = the intersecting pairs the sweep finds: pairs without a common vertex through
+  /// scan_, pairs sharing one vertex star by star; sorted, without repetition.
+  void FindBatchScanPairs(int threads);
+  /// Puts back the batch vertices of the failing faces (verdicts_, scanPairs_) at their last
+  /// verified position; `reverted` = those vertices.
+  void RevertFailingFaces(std::vector<std::uint32_t>& reverted);
   TrianglePairScan scan_;
   std::vector<Point> scanPositions_; ///< vertex positions for scan_ (by vertex index)
   std::vector<std::pair<std::uint32_t, std::uint32_t>> scanPairs_;
