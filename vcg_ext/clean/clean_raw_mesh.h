@@ -98,7 +98,11 @@
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/parallel_for.h>
 #include <vcg_ext/geometry/mean_edge_length.h>
+#include <vcg_ext/geometry/point.h>
+#include <vcg_ext/core/index.h>
 #include <vcg_ext/spatial/self_intersections.h>
+#include <vcg_ext/spatial/static_face_grid.h>
+#include <vcg_ext/clean/hole_triangulation.h>
 
 namespace molremesh {
 
@@ -113,7 +117,7 @@ struct CleanRawMeshResult {
   double areaBefore = 0, areaAfter = 0;     ///< total surface area
   double volumeBefore = 0, volumeAfter = 0; ///< signed enclosed volume
 
-  // Step 1: vertices and trivially bad faces
+  // Steps 1 and 4: vertices and trivially bad faces
   std::size_t mergedVertices = 0;              ///< vertices merged into a coincident one
   std::size_t removedUnreferencedVertices = 0; ///< vertices no face used in the input
   std::size_t removedDuplicateFaces = 0;       ///< faces with the same vertex set as an earlier face
@@ -121,7 +125,7 @@ struct CleanRawMeshResult {
   std::size_t flippedDegenerateFaces = 0;      ///< zero-area faces made proper by flipping their longest edge
   std::size_t collapsedDegenerateEdges = 0;    ///< vanishing edges of zero-area faces collapsed
   std::size_t remainingDegenerateFaces = 0;    ///< zero-area faces no safe edit could remove (left in place)
-  // Step 2 and 5, 8: manifoldness
+  // Steps 2, 5 and 9: manifoldness
   std::size_t removedNonManifoldFaces = 0;  ///< faces removed to make non-manifold edges manifold
   std::size_t splitNonManifoldVertices = 0; ///< vertex copies created by splitting non-manifold vertices
   std::size_t retriangulatedPinchFans =
@@ -130,11 +134,11 @@ struct CleanRawMeshResult {
   std::size_t movedSplitVertices =
       0; ///< copies moved by 1% into their own fan instead (no valid retriangulation)
   std::size_t touchingSplitVertices = 0; ///< copies left touching their original (neither worked)
-  // Steps 3 and 9: orientation
+  // Steps 3 and 10: orientation
   std::size_t flippedFacesForOrientation = 0; ///< input faces whose orientation was reversed
   std::size_t flippedComponents = 0;          ///< closed components turned outward (included above)
   std::size_t nonOrientableComponents = 0;    ///< components that cannot be oriented (left as they are)
-  // Step 6: components and self-intersections
+  // Steps 6 and 7: components and self-intersections
   std::size_t removedSmallComponents = 0; ///< components below minComponentFraction
   std::size_t removedComponentFaces = 0;  ///< their faces
   std::size_t repairedTangles =
@@ -142,14 +146,14 @@ struct CleanRawMeshResult {
   std::size_t unrepairedTangles = 0; ///< tangles left as they are: intersecting regions with no valid refill,
                                      ///< plus one per component left non-orientable
   std::size_t tangleFacesRemoved = 0, tangleFacesAdded = 0; ///< faces removed and added by those repairs
-  // Step 7: holes
+  // Step 8: holes
   std::size_t closedHoles = 0;              ///< boundary loops filled
   std::size_t holeFacesAdded = 0;           ///< faces added to fill them
   std::size_t grownHoles = 0;               ///< of the closed holes, those grown first (see FillHoles)
   std::size_t holeFacesRemoved = 0;         ///< faces removed around them
   std::size_t unfilledHoles = 0;            ///< boundary loops left open (too long, or no valid fill)
   std::size_t largestUnfilledHoleEdges = 0; ///< edges of the longest loop left open
-  // Step 10
+  // Step 11
   std::size_t removedOrphanedVertices = 0; ///< vertices left without faces by the removals above
 
   // Self-intersecting faces (MeshQuality's count: pairs sharing no vertex that meet, or sharing one
@@ -282,54 +286,27 @@ private:
   using VertexType = typename MeshType::VertexType;
   using FacePointer = typename MeshType::FacePointer;
   using VertexPointer = typename MeshType::VertexPointer;
-  using Point = vcg::Point3d;
-  using Index = std::uint32_t;
   using Tri = std::array<Index, 3>;
   using Quality = MeshQuality<MeshType>;
-  static constexpr Index kNone = std::numeric_limits<Index>::max();
-  static constexpr double kPi = 3.14159265358979323846;
+  static constexpr Index kNone = kNoIndex;
 
   // ------------------------------------------------------------------------------------------------
   // Small helpers
   // ------------------------------------------------------------------------------------------------
 
-  static Point Pos(const MeshType& m, Index v) {
-    const auto& p = m.vert[v].cP();
-    return Point(double(p[0]), double(p[1]), double(p[2]));
-  }
   static Index VI(const MeshType& m, const FaceType& f, int k) { return Index(f.cV(k) - &m.vert[0]); }
   static Index FI(const MeshType& m, const FaceType* f) { return Index(f - &m.face[0]); }
   static Tri FaceTri(const MeshType& m, const FaceType& f) { return {VI(m, f, 0), VI(m, f, 1), VI(m, f, 2)}; }
   static std::uint64_t EdgeKey(Index a, Index b) {
     return (std::uint64_t(std::min(a, b)) << 32) | std::uint64_t(std::max(a, b));
   }
-  static double TriArea(const Point& a, const Point& b, const Point& c) {
-    return 0.5 * ((b - a) ^ (c - a)).Norm();
-  }
-  static Point UnitNormal(const Point& a, const Point& b, const Point& c) {
-    Point n = (b - a) ^ (c - a);
-    const double len = n.Norm();
-    return len > 0 ? n / len : Point(0, 0, 0);
-  }
   static double FaceArea(const MeshType& m, const FaceType& f) {
-    return TriArea(Pos(m, VI(m, f, 0)), Pos(m, VI(m, f, 1)), Pos(m, VI(m, f, 2)));
+    return hole_triangulation::TriArea(PositionOf(&m.vert[VI(m, f, 0)]), PositionOf(&m.vert[VI(m, f, 1)]),
+                                       PositionOf(&m.vert[VI(m, f, 2)]));
   }
   static Point FaceNormal(const MeshType& m, const FaceType& f) {
-    return UnitNormal(Pos(m, VI(m, f, 0)), Pos(m, VI(m, f, 1)), Pos(m, VI(m, f, 2)));
-  }
-  /// Smallest angle (radians) of triangle abc.
-  static double MinAngle(const Point& a, const Point& b, const Point& c) {
-    const std::array<Point, 3> p{a, b, c};
-    double best = kPi;
-    for (int i = 0; i < 3; ++i) {
-      const Point u = p[(i + 1) % 3] - p[i], v = p[(i + 2) % 3] - p[i];
-      best = std::min(best, std::atan2((u ^ v).Norm(), u * v));
-    }
-    return best;
-  }
-  static double AngleBetween(const Point& a, const Point& b) {
-    if (a.SquaredNorm() == 0 || b.SquaredNorm() == 0) return 0; // undefined: do not constrain
-    return std::acos(std::clamp(a * b, -1.0, 1.0));
+    return hole_triangulation::UnitNormal(PositionOf(&m.vert[VI(m, f, 0)]), PositionOf(&m.vert[VI(m, f, 1)]),
+                                          PositionOf(&m.vert[VI(m, f, 2)]));
   }
   static void Progress(vcg::CallBackPos* cb, int percent, const char* what) {
     if (cb) (*cb)(percent, what);
@@ -576,13 +553,13 @@ private:
       for (Index v = 0; v < n; ++v)
         if (!m.vert[v].IsD()) order.push_back(v);
       auto less = [&m](Index a, Index b) {
-        const Point pa = Pos(m, a), pb = Pos(m, b);
+        const Point pa = PositionOf(&m.vert[a]), pb = PositionOf(&m.vert[b]);
         if (pa != pb) return pa < pb;
         return a < b;
       };
       std::sort(order.begin(), order.end(), less);
       for (std::size_t i = 1; i < order.size(); ++i) {
-        if (Pos(m, order[i]) != Pos(m, order[i - 1])) continue;
+        if (PositionOf(&m.vert[order[i]]) != PositionOf(&m.vert[order[i - 1]])) continue;
         const Index keep = target[order[i - 1]] != kNone ? target[order[i - 1]] : order[i - 1];
         target[order[i]] = keep;
         ++merged;
@@ -599,7 +576,7 @@ private:
       sorted.reserve(n);
       for (Index v = 0; v < n; ++v) {
         if (m.vert[v].IsD()) continue;
-        const Point p = Pos(m, v);
+        const Point p = PositionOf(&m.vert[v]);
         cell[v] = {std::int64_t(std::floor(p[0] * inv)), std::int64_t(std::floor(p[1] * inv)),
                    std::int64_t(std::floor(p[2] * inv))};
         sorted.emplace_back(cell[v], v);
@@ -607,7 +584,7 @@ private:
       std::sort(sorted.begin(), sorted.end());
       for (Index v = 0; v < n; ++v) {
         if (m.vert[v].IsD()) continue;
-        const Point p = Pos(m, v);
+        const Point p = PositionOf(&m.vert[v]);
         Index best = kNone;
         double bestDistance = radius;
         std::array<std::int64_t, 3> lo{}, hi{};
@@ -623,7 +600,7 @@ private:
               for (; it != sorted.end() && it->first == c && it->second < v; ++it) {
                 const Index w = it->second;
                 if (target[w] != kNone) continue; // merged itself: not a survivor
-                const double d = (Pos(m, w) - p).Norm();
+                const double d = (PositionOf(&m.vert[w]) - p).Norm();
                 if (d <= bestDistance && (best == kNone || d < bestDistance || w < best)) {
                   best = w;
                   bestDistance = d;
@@ -846,7 +823,8 @@ private:
         const Tri t = FaceTri(m, F);
         if (dirty[t[0]] || dirty[t[1]] || dirty[t[2]]) continue;
         std::array<double, 3> len{};
-        for (int k = 0; k < 3; ++k) len[k] = (Pos(m, t[(k + 1) % 3]) - Pos(m, t[k])).Norm();
+        for (int k = 0; k < 3; ++k)
+          len[k] = (PositionOf(&m.vert[t[(k + 1) % 3]]) - PositionOf(&m.vert[t[k]])).Norm();
         const int longest = int(std::max_element(len.begin(), len.end()) - len.begin());
         const int shortest = int(std::min_element(len.begin(), len.end()) - len.begin());
         const bool needle = len[shortest] < 1e-3 * len[longest];
@@ -895,10 +873,15 @@ private:
     if (FaceArea(m, *G) <= degenerateArea)
       return false; // neighbour degenerate too: let another edit go first
     if (EdgeExistsInStar(m, c, d)) return false;
-    const Point pa = Pos(m, a), pb = Pos(m, b), pc = Pos(m, c), pd = Pos(m, d);
-    if (TriArea(pc, pa, pd) <= degenerateArea || TriArea(pc, pd, pb) <= degenerateArea) return false;
+    const Point pa = PositionOf(&m.vert[a]), pb = PositionOf(&m.vert[b]), pc = PositionOf(&m.vert[c]),
+                pd = PositionOf(&m.vert[d]);
+    if (hole_triangulation::TriArea(pc, pa, pd) <= degenerateArea ||
+        hole_triangulation::TriArea(pc, pd, pb) <= degenerateArea)
+      return false;
     const Point ng = FaceNormal(m, *G);
-    if (UnitNormal(pc, pa, pd) * ng <= 0 || UnitNormal(pc, pd, pb) * ng <= 0) return false;
+    if (hole_triangulation::UnitNormal(pc, pa, pd) * ng <= 0 ||
+        hole_triangulation::UnitNormal(pc, pd, pb) * ng <= 0)
+      return false;
     F.V(0) = &m.vert[c];
     F.V(1) = &m.vert[a];
     F.V(2) = &m.vert[d];
@@ -949,11 +932,13 @@ private:
     for (const auto& [g, k] : starU) {
       if (std::find(edgeFaces.begin(), edgeFaces.end(), g) != edgeFaces.end()) continue;
       const FaceType& G = m.face[g];
-      const Point p1 = Pos(m, VI(m, G, (k + 1) % 3)), p2 = Pos(m, VI(m, G, (k + 2) % 3));
-      const Point oldP = Pos(m, u), newP = Pos(m, v);
-      if (TriArea(newP, p1, p2) <= degenerateArea) return false;
-      const Point oldN = UnitNormal(oldP, p1, p2), newN = UnitNormal(newP, p1, p2);
-      if (TriArea(oldP, p1, p2) > degenerateArea && oldN * newN <= 0.1) return false;
+      const Point p1 = PositionOf(&m.vert[VI(m, G, (k + 1) % 3)]),
+                  p2 = PositionOf(&m.vert[VI(m, G, (k + 2) % 3)]);
+      const Point oldP = PositionOf(&m.vert[u]), newP = PositionOf(&m.vert[v]);
+      if (hole_triangulation::TriArea(newP, p1, p2) <= degenerateArea) return false;
+      const Point oldN = hole_triangulation::UnitNormal(oldP, p1, p2),
+                  newN = hole_triangulation::UnitNormal(newP, p1, p2);
+      if (hole_triangulation::TriArea(oldP, p1, p2) > degenerateArea && oldN * newN <= 0.1) return false;
     }
     for (Index g : edgeFaces) {
       DeleteFace(m, g);
@@ -969,7 +954,7 @@ private:
   }
 
   // ------------------------------------------------------------------------------------------------
-  // Steps 5 and 8: non-manifold vertices (FF + VF adjacency, edge-manifold mesh)
+  // Steps 5 and 9: non-manifold vertices (FF + VF adjacency, edge-manifold mesh)
   // ------------------------------------------------------------------------------------------------
 
   /// Splits vertices whose faces form several fans (joined through edges at the vertex). With
@@ -1112,97 +1097,7 @@ private:
   // Face grid and the closed triangle/triangle predicates of MeshQuality
   // ------------------------------------------------------------------------------------------------
 
-  /// Uniform grid of face bounding boxes, hashed: the faces present at construction are kept as a
-  /// sorted (cell, face) array, faces added later in a small map; deleted faces are skipped when
-  /// queried.
-  class FaceGrid {
-  public:
-    FaceGrid(const MeshType& m, double cell) : cell_(cell > 0 ? cell : 1.0) {
-      for (Index f = 0; f < m.face.size(); ++f) {
-        if (m.face[f].IsD()) continue;
-        const vcg::Box3d box = Box(m, FaceTri(m, m.face[f]));
-        if (CellCount(box) > kMaxCells)
-          big_.push_back(f);
-        else
-          ForCells(box, [&](std::uint64_t key) { sorted_.emplace_back(key, f); });
-      }
-      std::sort(sorted_.begin(), sorted_.end());
-    }
-    void Insert(const MeshType& m, Index f) {
-      const vcg::Box3d box = Box(m, FaceTri(m, m.face[f]));
-      if (CellCount(box) > kMaxCells)
-        big_.push_back(f);
-      else
-        ForCells(box, [&](std::uint64_t key) { added_[key].push_back(f); });
-    }
-    /// Live faces whose bounding box touches box (closed test), each once.
-    void Query(const MeshType& m, const vcg::Box3d& box, std::vector<Index>& out) {
-      out.clear();
-      if (marks_.stamp.size() < m.face.size()) marks_.stamp.resize(m.face.size(), 0);
-      ++marks_.current;
-      auto consider = [&](Index f) {
-        if (f >= m.face.size() || marks_.stamp[f] == marks_.current || m.face[f].IsD()) return;
-        marks_.stamp[f] = marks_.current;
-        const vcg::Box3d fb = Box(m, FaceTri(m, m.face[f]));
-        for (int a = 0; a < 3; ++a)
-          if (fb.max[a] < box.min[a] || box.max[a] < fb.min[a]) return;
-        out.push_back(f);
-      };
-      for (Index f : big_) consider(f); // faces too large to be gridded
-      if (CellCount(box) > kMaxCells) { // a query that large: scan everything
-        for (Index f = 0; f < m.face.size(); ++f) consider(f);
-        return;
-      }
-      ForCells(box, [&](std::uint64_t key) {
-        auto it = std::lower_bound(sorted_.begin(), sorted_.end(), std::make_pair(key, Index(0)));
-        for (; it != sorted_.end() && it->first == key; ++it) consider(it->second);
-        if (!added_.empty()) {
-          const auto a = added_.find(key);
-          if (a != added_.end())
-            for (Index f : a->second) consider(f);
-        }
-      });
-    }
-    /// Bounding box of triangle t, grown by margin on every side.
-    static vcg::Box3d Box(const MeshType& m, const Tri& t, double margin = 0) {
-      vcg::Box3d box;
-      for (Index v : t) box.Add(Pos(m, v));
-      box.Offset(margin);
-      return box;
-    }
-
-  private:
-    static constexpr double kMaxCells = 4096;
-    double CellCount(const vcg::Box3d& box) const {
-      double count = 1;
-      for (int a = 0; a < 3; ++a)
-        count *= std::floor(box.max[a] / cell_) - std::floor(box.min[a] / cell_) + 1;
-      return count;
-    }
-    template <class Fn>
-    void ForCells(const vcg::Box3d& box, Fn fn) const {
-      const double inv = 1.0 / cell_;
-      std::array<std::int64_t, 3> lo{}, hi{};
-      for (int a = 0; a < 3; ++a) {
-        lo[a] = std::int64_t(std::floor(box.min[a] * inv));
-        hi[a] = std::int64_t(std::floor(box.max[a] * inv));
-      }
-      for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
-        for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
-          for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
-            fn((std::uint64_t(x) * 73856093u) ^ (std::uint64_t(y) * 19349663u) ^
-               (std::uint64_t(z) * 83492791u));
-    }
-    double cell_;
-    std::vector<std::pair<std::uint64_t, Index>> sorted_;
-    std::vector<Index> big_;
-    std::unordered_map<std::uint64_t, std::vector<Index>> added_;
-    struct Marks { // visit marks of Query
-      std::vector<std::uint32_t> stamp;
-      std::uint32_t current = 0;
-    };
-    Marks marks_;
-  };
+  using FaceGrid = StaticFaceGrid<MeshType>;
 
   /// Closed-triangle conflict as MeshQuality counts it: no shared vertex and the triangles meet, or
   /// one shared vertex and they meet elsewhere too; three shared vertices (a duplicate) also conflict.
@@ -1214,8 +1109,10 @@ private:
         if (a[i] == b[j]) ++shared, ca = i, cb = j;
     if (shared >= 3) return true;
     if (shared == 2) return false;
-    const PlanarTriangle ta = MakePlanarTriangle(Pos(m, a[0]), Pos(m, a[1]), Pos(m, a[2]));
-    const PlanarTriangle tb = MakePlanarTriangle(Pos(m, b[0]), Pos(m, b[1]), Pos(m, b[2]));
+    const PlanarTriangle ta =
+        MakePlanarTriangle(PositionOf(&m.vert[a[0]]), PositionOf(&m.vert[a[1]]), PositionOf(&m.vert[a[2]]));
+    const PlanarTriangle tb =
+        MakePlanarTriangle(PositionOf(&m.vert[b[0]]), PositionOf(&m.vert[b[1]]), PositionOf(&m.vert[b[2]]));
     if (shared == 0) return TrianglesIntersect(ta, tb);
     return SharedCornerOverlap(ta, ca, tb, cb);
   }
@@ -1309,83 +1206,6 @@ private:
   // Minimum-weight triangulation of a simple polygon (Liepa 2003), with forbidden triangles
   // ------------------------------------------------------------------------------------------------
 
-  struct Weight {
-    double dihedral = 0;   ///< largest dihedral angle (radians) between adjacent triangles
-    double minAngle = kPi; ///< smallest triangle angle (radians)
-    double area = 0;
-  };
-  static bool Better(const Weight& a, const Weight& b) {
-    if (std::fabs(a.dihedral - b.dihedral) > 1e-3) return a.dihedral < b.dihedral;
-    if (std::fabs(a.minAngle - b.minAngle) > 1e-3) return a.minAngle > b.minAngle;
-    return a.area < b.area;
-  }
-
-  /// Polygon p[0..n-1] whose side i (p[i] -> p[i+1]) is a boundary half-edge of a face with unit normal
-  /// outer[i]. Fills `tris` with local corner triples (i, m, j), i < m < j; the mesh face is
-  /// (p[j], p[m], p[i]) so that it runs every side the opposite way of its boundary face.
-  /// diagonalOk(i, j) says whether the diagonal may be created; forbidden holds keys of triangles
-  /// rejected by validation. False when no admissible triangulation exists.
-  template <class DiagonalOk>
-  static bool Triangulate(const std::vector<Point>& p, const std::vector<Point>& outer, DiagonalOk diagonalOk,
-                          const std::unordered_set<std::uint64_t>& forbidden, double minArea,
-                          double maxDihedral, std::vector<std::array<int, 3>>& tris) {
-    const int n = int(p.size());
-    tris.clear();
-    if (n < 3) return false;
-    auto key = [n](int i, int k, int j) { return (std::uint64_t(i) * n + k) * n + j; };
-    auto normalOf = [&p](int i, int k, int j) { return UnitNormal(p[j], p[k], p[i]); };
-    std::vector<Weight> w(std::size_t(n) * n);
-    std::vector<int> split(std::size_t(n) * n, -1); // -1: not computed/invalid
-    auto at = [n](int i, int j) { return std::size_t(i) * n + j; };
-    for (int i = 0; i + 1 < n; ++i) split[at(i, i + 1)] = -2; // a side: nothing to fill
-    for (int len = 2; len < n; ++len) {
-      for (int i = 0; i + len < n; ++i) {
-        const int j = i + len;
-        if (!(i == 0 && j == n - 1) && !diagonalOk(i, j)) continue;
-        Weight best;
-        int bestK = -1;
-        for (int k = i + 1; k < j; ++k) {
-          if (split[at(i, k)] == -1 || split[at(k, j)] == -1) continue;
-          if (forbidden.count(key(i, k, j))) continue;
-          const double area = TriArea(p[j], p[k], p[i]);
-          if (!(area > minArea)) continue;
-          const Point nt = normalOf(i, k, j);
-          const Point n1 = (k == i + 1) ? outer[i] : normalOf(i, split[at(i, k)], k);
-          const Point n2 = (j == k + 1) ? outer[k] : normalOf(k, split[at(k, j)], j);
-          double dihedral = std::max(AngleBetween(nt, n1), AngleBetween(nt, n2));
-          if (i == 0 && j == n - 1) dihedral = std::max(dihedral, AngleBetween(nt, outer[n - 1]));
-          if (dihedral > maxDihedral) continue;
-          Weight cand;
-          const Weight& a = w[at(i, k)];
-          const Weight& b = w[at(k, j)];
-          cand.dihedral = std::max({a.dihedral, b.dihedral, dihedral});
-          cand.minAngle = std::min({a.minAngle, b.minAngle, MinAngle(p[i], p[k], p[j])});
-          cand.area = a.area + b.area + area;
-          if (bestK < 0 || Better(cand, best)) {
-            best = cand;
-            bestK = k;
-          }
-        }
-        if (bestK >= 0) {
-          w[at(i, j)] = best;
-          split[at(i, j)] = bestK;
-        }
-      }
-    }
-    if (split[at(0, n - 1)] < 0) return false;
-    std::vector<std::pair<int, int>> stack{{0, n - 1}};
-    while (!stack.empty()) {
-      const auto [i, j] = stack.back();
-      stack.pop_back();
-      if (j - i < 2) continue;
-      const int k = split[at(i, j)];
-      tris.push_back({i, k, j});
-      stack.emplace_back(i, k);
-      stack.emplace_back(k, j);
-    }
-    return true;
-  }
-
   /// State shared by the fills of one step: the grid of faces, and the edges and faces created since
   /// the VF adjacency was last rebuilt.
   struct FillContext {
@@ -1411,7 +1231,7 @@ private:
       if (n < 3) return false;
       std::vector<Point> p(n), outer(n);
       for (int i = 0; i < n; ++i) {
-        p[i] = Pos(m, lobe.verts[i]);
+        p[i] = PositionOf(&m.vert[lobe.verts[i]]);
         outer[i] = FaceNormal(m, m.face[lobe.faces[i]]);
       }
       // Diagonals that already exist as mesh edges would become non-manifold.
@@ -1426,7 +1246,8 @@ private:
       bool accepted = false;
       const int maxAttempts = 4 * n + 16;
       for (int attempt = 0; attempt < maxAttempts && !accepted; ++attempt) {
-        if (!Triangulate(p, outer, diagonalOk, forbidden, ctx.minArea, ctx.maxDihedral, local)) {
+        if (!hole_triangulation::Triangulate(p, outer, diagonalOk, forbidden, ctx.minArea, ctx.maxDihedral,
+                                             local)) {
           return false;
         }
         accepted = true;
@@ -1496,7 +1317,7 @@ private:
   }
 
   // ------------------------------------------------------------------------------------------------
-  // Step 6b: local self-intersection repair
+  // Step 7: local self-intersection repair
   // ------------------------------------------------------------------------------------------------
 
   /// Regions to repair: faces of intersecting pairs (MeshQuality's definition) and faces on both sides
@@ -1526,7 +1347,7 @@ private:
         faceOf.push_back(f);
       }
       std::vector<Point> points(m.vert.size());
-      for (Index v = 0; v < m.vert.size(); ++v) points[v] = Pos(m, v);
+      for (Index v = 0; v < m.vert.size(); ++v) points[v] = PositionOf(&m.vert[v]);
       const auto pairs =
           FindSelfIntersections(tris, points, meanEdge, ResolveThreadCount(params.threads), true);
       for (const IntersectingPair& pair : pairs) {
@@ -1713,14 +1534,15 @@ private:
       Index bestFace = 0;
       for (std::size_t i = 0; i < vertices.size(); ++i) {
         if (done[i]) continue;
-        const Point p = Pos(m, vertices[i]);
+        const Point p = PositionOf(&m.vert[vertices[i]]);
         double nearest = std::numeric_limits<double>::infinity();
         Index face = 0;
         for (Index f = firstFill; f < m.face.size(); ++f) {
           if (m.face[f].IsD()) continue;
           const Tri t = FaceTri(m, m.face[f]);
-          const std::array<Point, 3> c{Pos(m, t[0]), Pos(m, t[1]), Pos(m, t[2])};
-          const Point n = UnitNormal(c[0], c[1], c[2]);
+          const std::array<Point, 3> c{PositionOf(&m.vert[t[0]]), PositionOf(&m.vert[t[1]]),
+                                       PositionOf(&m.vert[t[2]])};
+          const Point n = hole_triangulation::UnitNormal(c[0], c[1], c[2]);
           if (n == Point(0, 0, 0)) continue;
           bool inside = true; // p projects into the face
           for (int k = 0; k < 3; ++k)
@@ -1740,8 +1562,11 @@ private:
       const Point n = FaceNormal(m, m.face[bestFace]);
       bool ok = true;
       for (const Tri& nt : split) { // proper, and within 60 degrees of the face it splits
-        const Point a = Pos(m, nt[0]), b = Pos(m, nt[1]), c = Pos(m, nt[2]);
-        if (!(TriArea(a, b, c) > ctx.minArea) || UnitNormal(a, b, c) * n <= 0.5) ok = false;
+        const Point a = PositionOf(&m.vert[nt[0]]), b = PositionOf(&m.vert[nt[1]]),
+                    c = PositionOf(&m.vert[nt[2]]);
+        if (!(hole_triangulation::TriArea(a, b, c) > ctx.minArea) ||
+            hole_triangulation::UnitNormal(a, b, c) * n <= 0.5)
+          ok = false;
       }
       if (!ok) continue;
       for (const Tri& nt : split) {
@@ -1817,11 +1642,11 @@ private:
     std::vector<std::pair<Index, int>> star;
     Star(m, v, star);
     if (star.empty()) return false;
-    const Point old = Pos(m, v);
+    const Point old = PositionOf(&m.vert[v]);
     Point centroid(0, 0, 0);
     for (const auto& corner : star) {
       const Tri t = FaceTri(m, m.face[corner.first]);
-      centroid += (Pos(m, t[0]) + Pos(m, t[1]) + Pos(m, t[2])) / 3.0;
+      centroid += (PositionOf(&m.vert[t[0]]) + PositionOf(&m.vert[t[1]]) + PositionOf(&m.vert[t[2]])) / 3.0;
     }
     centroid /= double(star.size());
     std::vector<Point> oldNormals;
@@ -1830,7 +1655,7 @@ private:
     using CoordType = typename MeshType::CoordType;
     using Scalar = typename MeshType::ScalarType;
     m.vert[v].P() = CoordType(Scalar(target[0]), Scalar(target[1]), Scalar(target[2]));
-    bool ok = Pos(m, v) != old;
+    bool ok = PositionOf(&m.vert[v]) != old;
     std::vector<Index> candidates;
     for (std::size_t i = 0; i < star.size() && ok; ++i) {
       const Tri t = FaceTri(m, m.face[star[i].first]);
@@ -1851,7 +1676,7 @@ private:
   }
 
   // ------------------------------------------------------------------------------------------------
-  // Step 7: holes
+  // Step 8: holes
   // ------------------------------------------------------------------------------------------------
 
   /// A loop within params.maxHoleEdges that no triangulation of its own vertices fills validly (a
@@ -1922,7 +1747,7 @@ private:
   }
 
   // ------------------------------------------------------------------------------------------------
-  // Step 9: outward orientation of closed components
+  // Step 10: outward orientation of closed components
   // ------------------------------------------------------------------------------------------------
 
   /// Parity of the crossings of the ray origin + t dir (t > 0) with the faces; ambiguous when the ray
@@ -1933,7 +1758,7 @@ private:
     bool odd = false;
     for (Index f : faces) {
       const Tri t = FaceTri(m, m.face[f]);
-      const Point a = Pos(m, t[0]), b = Pos(m, t[1]), c = Pos(m, t[2]);
+      const Point a = PositionOf(&m.vert[t[0]]), b = PositionOf(&m.vert[t[1]]), c = PositionOf(&m.vert[t[2]]);
       const Point e1 = b - a, e2 = c - a;
       const Point q = dir ^ e2;
       const double det = e1 * q;
@@ -1976,15 +1801,15 @@ private:
       std::size_t n = 0;
       for (Index f : faces[c])
         for (int k = 0; k < 3; ++k) {
-          centroid += Pos(m, VI(m, m.face[f], k));
-          box[c].Add(Pos(m, VI(m, m.face[f], k)));
+          centroid += PositionOf(&m.vert[VI(m, m.face[f], k)]);
+          box[c].Add(PositionOf(&m.vert[VI(m, m.face[f], k)]));
           ++n;
         }
       centroid /= double(n);
       for (Index f : faces[c]) {
         const Tri t = FaceTri(m, m.face[f]);
-        volume[c] +=
-            (Pos(m, t[0]) - centroid) * ((Pos(m, t[1]) - centroid) ^ (Pos(m, t[2]) - centroid)) / 6.0;
+        volume[c] += (PositionOf(&m.vert[t[0]]) - centroid) *
+                     ((PositionOf(&m.vert[t[1]]) - centroid) ^ (PositionOf(&m.vert[t[2]]) - centroid)) / 6.0;
       }
     }
     const std::array<Point, 5> directions{Point(0.5773, 0.5774, 0.5775), Point(-0.7071, 0.4082, 0.5774),
@@ -2003,7 +1828,8 @@ private:
           if (a > bestArea) bestArea = a, probe = f;
         }
         const Tri t = FaceTri(m, m.face[probe]);
-        const Point origin = (Pos(m, t[0]) + Pos(m, t[1]) + Pos(m, t[2])) / 3.0;
+        const Point origin =
+            (PositionOf(&m.vert[t[0]]) + PositionOf(&m.vert[t[1]]) + PositionOf(&m.vert[t[2]])) / 3.0;
         // Containers may be open (a hole left unfilled): the vote over several rays tolerates a ray
         // escaping through a small hole.
         for (std::size_t d = 0; d < count; ++d) {
