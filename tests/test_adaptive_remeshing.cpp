@@ -199,6 +199,7 @@ TEST(AdaptiveRemeshing, RefusedInputsAreLeftUntouched) {
 }
 
 TEST(AdaptiveRemeshing, SameOutputForOneAndTwoThreads) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD a;
   LoadCleaned(a, "galactose_grasp.ply");
   MeshD b;
@@ -225,6 +226,7 @@ TEST(AdaptiveRemeshing, SameOutputForOneAndTwoThreads) {
 class AdaptiveRemeshingBpti : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
+    if (!molremesh::test::SharedDataFound()) return; // every test skips in SetUp
     input = new MeshD;
     output = new MeshD;
     before = new molremesh::QualityReport;
@@ -241,6 +243,7 @@ protected:
     *result = Rar::Do(*output, reference, params);
     *after = Quality::Compute(*output);
   }
+  void SetUp() override { MOLREMESH_SKIP_WITHOUT_SHARED_DATA(); }
   static void TearDownTestSuite() {
     delete input;
     delete output;
@@ -300,6 +303,7 @@ TEST_F(AdaptiveRemeshingBpti, AnglesQualityAndValencesAtLeastAsGoodAsCgal) {
 // since the CVT's intermediate Lloyd iterations project within the footpoint face (the run
 // without partial moves starts closer, so the gain shrank from 21 % to 7 %).
 TEST(AdaptiveRemeshing, PartialSnapsBringTheCutOffBumpTipsCloser) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD input;
   LoadCleaned(input, "galactose_grasp.ply");
   const double L = Quality::Compute(input).meanEdgeLength;

@@ -46,6 +46,7 @@ class FullPipelineOnMesh : public ::testing::TestWithParam<std::string> {};
 } // namespace
 
 TEST_P(FullPipelineOnMesh, MeetsEveryAcceptanceFigure) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const std::string name = GetParam();
   const std::string input = SharedMesh(name + ".ply");
   const auto dir = TempDir("full_" + name);
@@ -137,6 +138,7 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, FullPipelineOnMesh,
                          [](const auto& p) { return std::string(p.param); });
 
 TEST(FullPipeline, SameSeedSameOutputForAnyThreadCount) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const std::string input = SharedMesh("lysozyme_Lys1_msms.ply");
   const auto dir = TempDir("full_determinism");
   std::vector<std::string> files;

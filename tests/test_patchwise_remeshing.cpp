@@ -127,6 +127,7 @@ void Prepare(Prepared& p, const std::string& name, int patches) {
 } // namespace
 
 TEST(PatchwiseRemeshing, PatchBordersAreBitIdenticalBeforeTheStripPass) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   Prepared p;
   Prepare(p, "ubiquitin_1UBQ_edtsurf_mc.ply", 6);
   std::set<PointKey> borderVertices;
@@ -165,6 +166,7 @@ TEST(PatchwiseRemeshing, PatchBordersAreBitIdenticalBeforeTheStripPass) {
 }
 
 TEST(PatchwiseRemeshing, SameOutputForOneAndTwoThreads) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   Prepared p;
   Prepare(p, "lysozyme_Lys1_msms.ply", 5);
   MeshD copy;
@@ -317,6 +319,7 @@ TEST(PatchwiseRemeshing, RefusesNonManifoldInputAndLeavesItUntouched) {
 }
 
 TEST(PatchwiseRemeshing, PipelineRarStageSegmentsFirstWhenSegmentDidNotRun) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD m;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("galactose_grasp.ply"), error)) << error;
@@ -376,6 +379,7 @@ TEST(PatchwiseRemeshing, PipelinePutsTheInputBackWhenAStageFailsUnlessToldNotTo)
 class PatchwiseRemeshingUbiquitin : public ::testing::Test {
 protected:
   static void SetUpTestSuite() {
+    if (!molremesh::test::SharedDataFound()) return; // every test skips in SetUp
     input = new MeshD;
     output = new MeshD;
     before = new molremesh::QualityReport;
@@ -402,6 +406,7 @@ protected:
     *before = Quality::Compute(*input);
     *after = Quality::Compute(*output);
   }
+  void SetUp() override { MOLREMESH_SKIP_WITHOUT_SHARED_DATA(); }
   static void TearDownTestSuite() {
     delete input;
     delete output;
