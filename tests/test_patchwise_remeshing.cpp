@@ -25,6 +25,7 @@
 #include <vcg_ext/surface/surface_distance.h>
 
 #include "remeshing_test_meshes.h"
+#include "cgal_reference.h"
 #include "test_helpers.h"
 
 using molremesh::MeshD;
@@ -452,10 +453,16 @@ TEST_F(PatchwiseRemeshingUbiquitin, KeepsEveryVertexOnTheInput) {
   molremesh::test::ExpectVerticesOnInput(*output, *input, 0.1 * before->meanEdgeLength);
 }
 
-// CGAL's isotropic remeshing at the same target length (benchmarks/RESULTS-baselines.md):
+// CGAL's isotropic remeshing at the same target length (tests/data/cgal_reference.json, rounded):
 // 1UBQ EDTSurf theta_min 22.0, Q_min 0.467, V567 99.18 %.
 TEST_F(PatchwiseRemeshingUbiquitin, AnglesQualityAndValencesAtLeastAsGoodAsCgal) {
   EXPECT_GE(after->angleMin, 22.0);
   EXPECT_GE(after->qMin, 0.467);
   EXPECT_GE(after->v567Percent, 99.18);
+  // The figures above are CGAL's in the reference file, to the digits written.
+  const nlohmann::json cgal = molremesh::test::CgalReference("ubiquitin_1UBQ_edtsurf_mc");
+  ASSERT_FALSE(cgal.is_null()) << "no CGAL reference figures for ubiquitin_1UBQ_edtsurf_mc";
+  EXPECT_EQ(molremesh::test::Rounded(cgal["angle_min_deg"].get<double>(), 1), 22.0);
+  EXPECT_EQ(molremesh::test::Rounded(cgal["q_min"].get<double>(), 3), 0.467);
+  EXPECT_EQ(molremesh::test::Rounded(cgal["v567_percent"].get<double>(), 2), 99.18);
 }
