@@ -16,6 +16,7 @@ packages=(
   libgtest-dev libbenchmark-dev
   xvfb xauth
   tetgen
+  clang-format
 )
 for option in "$@"; do
   case "$option" in

@@ -670,6 +670,7 @@ TEST(CleanRawMesh, RefusesAllDegenerateMeshesAndBadParameters) {
 // ------------------------------------------------------------------------------------------------
 
 TEST(CleanRawMesh, FloatMeshWithOptionalAdjacency) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshO m;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), error))
@@ -778,6 +779,7 @@ void CheckRealMesh(const RealMesh& c, bool printRow) {
 class RealMeshes : public ::testing::TestWithParam<RealMesh> {};
 
 TEST_P(RealMeshes, CleanedMeshIsAValidClosedManifold) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   CheckRealMesh(GetParam(), true);
 }
 
@@ -796,6 +798,7 @@ INSTANTIATE_TEST_SUITE_P(Shared, RealMeshes,
                          });
 
 TEST(CleanRawMesh, RealMeshSpecifics) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   std::string error;
   {
     // EDTSurf's marching-cubes crack: 36 boundary edges, two tiny crack pieces touching the surface
@@ -832,6 +835,7 @@ TEST(CleanRawMesh, RealMeshSpecifics) {
 }
 
 TEST(CleanRawMesh, PinchFanRefillFollowsTheRemovedSheet) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   // PyMOL's 1UBQ surface has one non-manifold vertex where a thin folded flap meets the sheet. The
   // sheet's fan and the ring around it (20 faces) are removed and refilled; the vertices of that
   // ring go back into the fill where they meet nothing, so the fill follows the domed sheet instead
@@ -851,6 +855,7 @@ TEST(CleanRawMesh, PinchFanRefillFollowsTheRemovedSheet) {
 }
 
 TEST(CleanRawMesh, SameOutputForAnyThreadCount) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   // PyMOL's tangle is found by the parallel intersection search and repaired: the repaired mesh
   // must not depend on how many threads searched.
   std::string error;
@@ -880,9 +885,11 @@ TEST(CleanRawMesh, SameOutputForAnyThreadCount) {
 
 // Manual: the two large meshes (a few seconds each). Run with --gtest_also_run_disabled_tests.
 TEST(CleanRawMeshLarge, DISABLED_HivProtease) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   CheckRealMesh({"hivprotease_1HPV_edtsurf_mc.ply", true, 0.01}, true);
 }
 TEST(CleanRawMeshLarge, DISABLED_MTor) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   CheckRealMesh({"mtor_4JSV_edtsurf_vcmc.ply", true, 1.0}, true);
 }
 

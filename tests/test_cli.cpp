@@ -83,6 +83,7 @@ TEST(Cli, DegenerateFacesAreReportedNotRefused) {
 }
 
 TEST(Cli, ReportTableOnRealMesh) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const CommandResult r = Cli("report " + Quote(SharedMesh("bpti_1bpi_msms.ply")));
   ASSERT_EQ(r.exitCode, 0) << r.err;
   for (const char* row :
@@ -91,6 +92,7 @@ TEST(Cli, ReportTableOnRealMesh) {
 }
 
 TEST(Cli, ReportJsonOnRealMeshMatchesItsKnownDefects) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   // ubiquitin_1UBQ_edtsurf_mc.ply: per the data README, 36 boundary edges and 5 non-manifold vertices.
   const CommandResult r = Cli("report --json " + Quote(SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply")));
   ASSERT_EQ(r.exitCode, 0) << r.err;
@@ -101,6 +103,7 @@ TEST(Cli, ReportJsonOnRealMeshMatchesItsKnownDefects) {
 }
 
 TEST(Cli, ReportIsTheSameForAnyThreadCount) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   // The raw 1MAH PyMOL surface has something for every figure (non-manifold edges, intersecting
   // pairs, several components); the report must not change by a digit with the thread count.
   const std::string in = Quote(SharedMesh("ache_1MAH_pymol_ses.ply"));
@@ -114,6 +117,7 @@ TEST(Cli, ReportIsTheSameForAnyThreadCount) {
 }
 
 TEST(Cli, ColorWritesPlyAndCountsMatchReport) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const auto dir = TempDir("cli_color");
   const std::string out = (dir / "colored.ply").string();
   const std::string in = SharedMesh("bpti_1bpi_msms.ply");
@@ -141,6 +145,7 @@ TEST(Cli, ColorRefusesBadInputAndWritesNothing) {
 }
 
 TEST(Cli, ReadsAndWritesPlyOffObjAndStl) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   // The segment stage leaves the geometry alone: a round trip through each format keeps the mesh.
   const auto dir = TempDir("cli_formats");
   const std::string in = SharedMesh("galactose_grasp.ply");
@@ -164,6 +169,7 @@ TEST(Cli, ReadsAndWritesPlyOffObjAndStl) {
 }
 
 TEST(Cli, RemeshRefusesBadInputAndUnknownStagesWritingNothing) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const auto dir = TempDir("cli_remesh_bad");
   const std::string out = (dir / "out.ply").string();
   ExpectInputError(Cli("remesh " + Quote(Fixture("nan_vertex.ply")) + " " + Quote(out)), "NaN");
@@ -180,6 +186,7 @@ TEST(Cli, RemeshRefusesBadInputAndUnknownStagesWritingNothing) {
 // small closed components beside the protein's, of 314 faces (1.1 %) and 104 faces (0.4 %); by
 // default (1 %) the smaller is removed (and counted), with --min-component-percent 0 both stay.
 TEST(Cli, CleanComponentThresholdIsAnOption) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const auto dir = TempDir("cli_components");
   const std::string out = (dir / "out.ply").string();
   const std::string mesh = Quote(SharedMesh("ache_1MAH_edtsurf_vcmc.ply"));
@@ -201,6 +208,7 @@ TEST(Cli, CleanComponentThresholdIsAnOption) {
 // remesh keeps more of the input's area than the one on the flat triangles (measured: -0.18 % and
 // -0.44 % of the raw area), and a share outside [0, 1] is refused.
 TEST(Cli, SurfaceLiftIsAnOption) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const auto dir = TempDir("cli_surface_lift");
   const std::string out = (dir / "out.ply").string();
   const std::string mesh = Quote(SharedMesh("galactose_grasp.ply"));
@@ -288,6 +296,7 @@ TEST(Cli, OpenOutputWarnsWhichLimitKeptTheHole) {
 // would make about 10^11 faces; --memory-limit sets the limit (1 MB: even galactose is over it) and
 // -1 turns the check off.
 TEST(Cli, RunBeyondTheMemoryLimitIsRefusedBeforeItStarts) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const auto dir = TempDir("cli_memory");
   const std::string out = (dir / "out.ply").string();
   const std::string mesh = Quote(SharedMesh("galactose_grasp.ply"));

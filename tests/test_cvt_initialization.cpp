@@ -288,6 +288,7 @@ TEST(CvtInitialization, ExternalReferenceSurface) {
 }
 
 TEST(CvtInitialization, OutputDoesNotDependOnTheThreadCount) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   std::vector<std::vector<Point>> positions;
   std::vector<std::vector<std::array<long, 3>>> faces;
   for (const int threads : {1, 2, 3}) {
@@ -339,6 +340,7 @@ TEST(CvtInitialization, FloatMeshAndProgressCallback) {
 class RealMesh : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(RealMesh, AcceptanceFigures) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD m;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(m, SharedMesh(GetParam()), error)) << error;

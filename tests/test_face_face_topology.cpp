@@ -68,6 +68,7 @@ TEST(FaceFaceTopology, SameAsVcgOnAClosedSphere) {
 }
 
 TEST(FaceFaceTopology, SameAsVcgOnAMolecularSurface) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD m;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("bpti_1bpi_msms.ply"), error)) << error;

@@ -52,6 +52,7 @@ void ExpectSameAnswers(const MeshD& m, const std::vector<bool>& skip, FaceHashGr
 class FaceHashGridBulk : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(FaceHashGridBulk, InsertAllGivesTheGridOfInsertsInIndexOrder) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD m;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh(GetParam()), error)) << error;

@@ -1,6 +1,6 @@
 // Acceptance of the full pipeline (issue 5) through the CLI on every shared mesh: every angle in
 // [30, 120] degrees, V567 >= 99.8 %, no more obtuse triangles than CGAL's isotropic remeshing
-// left on the same mesh (benchmarks/RESULTS-baselines.json), 0 self-intersections, 2-manifold,
+// left on the same mesh (tests/data/cgal_reference.json), 0 self-intersections, 2-manifold,
 // closed components closed with their genus, volume within 0.5 % of the cleaned input, every
 // vertex within 0.1 L of the cleaned input, and TetGen (-pq1.4) meshes the output. Plus
 // determinism: the same seed gives the same file, whatever the thread count.
@@ -17,6 +17,7 @@
 #include <string>
 
 #include "remeshing_test_meshes.h"
+#include "cgal_reference.h"
 #include "test_helpers.h"
 
 using namespace molremesh;
@@ -30,22 +31,11 @@ void Load(MeshD& m, const std::string& path) {
   ASSERT_TRUE(LoadMesh(m, path, error)) << error;
 }
 
-/// CGAL's row of the recorded baselines for a mesh (empty when not recorded).
-nlohmann::json CgalBaseline(const std::string& mesh) {
-  std::ifstream in(MOLREMESH_BASELINES_JSON);
-  if (!in) return {};
-  const nlohmann::json all = nlohmann::json::parse(in);
-  for (const auto& entry : all)
-    if (entry.value("mesh", "") == mesh)
-      for (const auto& row : entry["rows"])
-        if (row.value("method", "") == "cgal" && row.value("status", "") == "ok") return row;
-  return {};
-}
-
 class FullPipelineOnMesh : public ::testing::TestWithParam<std::string> {};
 } // namespace
 
 TEST_P(FullPipelineOnMesh, MeetsEveryAcceptanceFigure) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const std::string name = GetParam();
   const std::string input = SharedMesh(name + ".ply");
   const auto dir = TempDir("full_" + name);
@@ -80,9 +70,9 @@ TEST_P(FullPipelineOnMesh, MeetsEveryAcceptanceFigure) {
   EXPECT_LE(after.angleMax, 120.0);
   EXPECT_GE(after.v567Percent, 99.8);
   // No more obtuse triangles than CGAL's isotropic remeshing leaves at the same target length.
-  const nlohmann::json cgal = CgalBaseline(name);
-  ASSERT_FALSE(cgal.is_null()) << "no CGAL baseline recorded for " << name;
-  EXPECT_LE(after.obtusePercent, cgal["report"]["obtuse_percent"].get<double>() + 1e-9);
+  const nlohmann::json cgal = molremesh::test::CgalReference(name);
+  ASSERT_FALSE(cgal.is_null()) << "no CGAL reference figures for " << name;
+  EXPECT_LE(after.obtusePercent, cgal["obtuse_percent"].get<double>() + 1e-9);
 
   ExpectTwoManifoldWithoutDegenerateFaces(after);
   ExpectNoSelfIntersection(after);
@@ -97,7 +87,7 @@ TEST_P(FullPipelineOnMesh, MeetsEveryAcceptanceFigure) {
   EXPECT_LE(toCleaned.hausdorff, 1.0 * L)
       << "Hausdorff distance to the cleaned input, in L: " << toCleaned.hausdorff / L;
 
-  // Recorded beside the figures (compare with CGAL's in benchmarks/): symmetric Hausdorff / L to
+  // Recorded beside the figures (compare with CGAL's in the reference): symmetric Hausdorff / L to
   // the raw input (it includes the components stage 0 drops and the holes it closes).
   const SymmetricDistance d = SurfaceDistance<MeshD, MeshD>::Symmetric(out, raw);
   RecordProperty("hausdorff_over_L", std::to_string(d.hausdorff / L));
@@ -137,6 +127,7 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, FullPipelineOnMesh,
                          [](const auto& p) { return std::string(p.param); });
 
 TEST(FullPipeline, SameSeedSameOutputForAnyThreadCount) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const std::string input = SharedMesh("lysozyme_Lys1_msms.ply");
   const auto dir = TempDir("full_determinism");
   std::vector<std::string> files;

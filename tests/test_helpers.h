@@ -10,10 +10,20 @@
 #include <string>
 #include <sys/wait.h>
 
+/// First statement of a test on the shared meshes: skips it, saying why, when they are missing.
+#define MOLREMESH_SKIP_WITHOUT_SHARED_DATA()                                                                 \
+  if (!::molremesh::test::SharedDataFound())                                                                 \
+  GTEST_SKIP() << "shared data not found at " MOLREMESH_SHARED_DATA_DIR                                      \
+                  "/meshes: this test needs the real molecular meshes (configure MOLREMESH_SHARED_DATA_DIR)"
+
 namespace molremesh::test {
 
 inline std::string SharedMesh(const std::string& name) {
   return std::string(MOLREMESH_SHARED_DATA_DIR) + "/meshes/" + name;
+}
+/// Whether the shared molecular meshes are there; the tests on them skip when they are not.
+inline bool SharedDataFound() {
+  return std::filesystem::is_directory(std::string(MOLREMESH_SHARED_DATA_DIR) + "/meshes");
 }
 inline std::string Fixture(const std::string& name) {
   return std::string(MOLREMESH_TEST_DATA_DIR) + "/" + name;

@@ -605,6 +605,7 @@ TEST(LocalRemeshingOps, BatchSweepFindsAStarThatOverlapsItself) {
 // --- A real mesh -------------------------------------------------------------------------------------
 
 TEST(LocalRemeshingOps, RandomOperationsOnARealMolecularSurface) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   OpsSetup<MeshD> s;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(s.m, SharedMesh("bpti_1bpi_msms.ply"), error)) << error;

@@ -95,6 +95,7 @@ TEST(LocalSmoothing, RefusedInputsAreLeftUntouched) {
 }
 
 TEST(LocalSmoothing, SameOutputForOneAndTwoThreadsAndForTheSameSeed) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD a;
   LoadPrepared(a, "lysozyme_Lys1_msms.ply", false);
   molremesh::test::ExpectSameOutputForOneAndTwoThreads<Smoothing>(a);
@@ -110,6 +111,7 @@ struct RealCase {
 class LocalSmoothingReal : public ::testing::TestWithParam<RealCase> {};
 
 TEST_P(LocalSmoothingReal, ReducesBadTrianglesWithoutNewSmallAnglesAndKeepsTheInvariants) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const RealCase c = GetParam();
   molremesh::test::RealRun run;
   LoadPrepared(run.input, c.mesh, c.cvt);

@@ -119,6 +119,7 @@ TEST(MemoryBudget, PipelineHonoursAnExplicitLimit) {
 // killed: the full pipeline on the 59k-face PyMOL surface of 1MAH, in this process (peak resident
 // memory from getrusage, which also counts the test program itself).
 TEST(MemoryBudget, EstimateLiesAboveTheMeasuredPeakOfARealRun) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD m;
   std::string error;
   ASSERT_TRUE(LoadMesh(m, SharedMesh("ache_1MAH_pymol_ses.ply"), error)) << error;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "remeshing_test_meshes.h"
+#include "test_helpers.h"
 
 namespace {
 
@@ -918,6 +919,7 @@ TEST(MeshQuality, FloatMeshGivesTheSameFigures) {
 // ----------------------------------------------------------------------------------------------
 
 TEST(MeshQuality, RealMoleculeBptiMsms) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const char* path = MOLREMESH_SHARED_DATA_DIR "/meshes/bpti_1bpi_msms.ply";
   if (!std::ifstream(path).good()) GTEST_SKIP() << "missing " << path;
   MeshD m;
@@ -1020,6 +1022,7 @@ void ExpectSameForAnyThreadCount(const MeshD& m) {
 }
 
 TEST(MeshQuality, SameFiguresForAnyThreadCountOnARealMolecule) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   // The raw PyMOL surface of 1MAH: 56k faces with non-manifold edges, self-intersecting and
   // overlapping pairs and several components, so every part of the report has something to count.
   const char* path = MOLREMESH_SHARED_DATA_DIR "/meshes/ache_1MAH_pymol_ses.ply";

@@ -111,6 +111,7 @@ TEST(ObtuseReduction, RefusedInputsAreLeftUntouched) {
 }
 
 TEST(ObtuseReduction, SameOutputForOneAndTwoThreadsAndForTheSameSeed) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD a;
   LoadPrepared(a, "galactose_grasp.ply", false);
   molremesh::test::ExpectSameOutputForOneAndTwoThreads<Obtuse>(a);
@@ -127,6 +128,7 @@ struct RealCase {
 class ObtuseReductionReal : public ::testing::TestWithParam<RealCase> {};
 
 TEST_P(ObtuseReductionReal, ReducesObtuseTrianglesWithoutSmallAnglesAndKeepsTheInvariants) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const RealCase c = GetParam();
   molremesh::test::RealRun run;
   LoadPrepared(run.input, c.mesh, c.cvt);

@@ -108,6 +108,7 @@ TEST(RandomSegmentation, ComponentWithoutSeedGetsItsOwnPatch) {
 }
 
 TEST(RandomSegmentation, AutomaticCountOnARealMesh) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD m;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("lysozyme_Lys1_msms.ply"), error)) << error;

@@ -365,6 +365,7 @@ TEST(ReferenceSurface, ProjectInsideFaceAndUnliftedProjection) {
 }
 
 TEST(ReferenceSurface, RealMeshLocalProjectionAgreesWithGlobalNearTheSurface) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD m;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(m, SharedMesh("bpti_1bpi_msms.ply"), error)) << error;

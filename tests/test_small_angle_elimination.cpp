@@ -100,6 +100,7 @@ TEST(SmallAngleElimination, RefusedInputsAreLeftUntouched) {
 }
 
 TEST(SmallAngleElimination, SameOutputForOneAndTwoThreadsAndForTheSameSeed) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD a;
   LoadPrepared(a, "lysozyme_Lys1_msms.ply", false);
   molremesh::test::ExpectSameOutputForOneAndTwoThreads<Small>(a);
@@ -115,6 +116,7 @@ struct RealCase {
 class SmallAngleEliminationReal : public ::testing::TestWithParam<RealCase> {};
 
 TEST_P(SmallAngleEliminationReal, LeavesNoAngleBelow30AndKeepsTheInvariants) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const RealCase c = GetParam();
   molremesh::test::RealRun run;
   LoadPrepared(run.input, c.mesh, c.cvt);

@@ -125,6 +125,7 @@ TEST(SurfaceDistance, HalfPlaneIsOneSided) {
 }
 
 TEST(SurfaceDistance, VertexDistancesMatchBruteForceOnRealMeshes) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD a, b;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(a, molremesh::test::SharedMesh("galactose_grasp.ply"), error)) << error;
@@ -151,6 +152,7 @@ TEST(SurfaceDistance, VertexDistancesMatchBruteForceOnRealMeshes) {
 }
 
 TEST(SurfaceDistance, LargestSharedMeshInSeconds) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD m, moved;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("mtor_4JSV_edtsurf_vcmc.ply"), error))

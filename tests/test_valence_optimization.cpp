@@ -303,6 +303,7 @@ class ValenceOnSharedMesh : public ::testing::TestWithParam<std::string> {};
 } // namespace
 
 TEST_P(ValenceOnSharedMesh, ReachesV567WithAllInvariants) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD m;
   std::string error;
   ASSERT_TRUE(LoadMesh(m, SharedMesh(GetParam()), error)) << error;
