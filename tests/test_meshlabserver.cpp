@@ -65,6 +65,7 @@ TEST(MeshlabServer, ListsOurFilters) {
 class MeshlabServerOnMesh : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MeshlabServerOnMesh, ColorScriptMatchesCliCounts) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const std::string input = SharedMesh(GetParam());
   const auto dir = TempDir("mls_color");
   const std::string output = (dir / "colored.ply").string();
@@ -103,6 +104,7 @@ TEST_P(MeshlabServerOnMesh, ColorScriptMatchesCliCounts) {
 }
 
 TEST_P(MeshlabServerOnMesh, QualityReportScriptLogsTheCliFigures) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const std::string input = SharedMesh(GetParam());
   const auto dir = TempDir("mls_report");
   const std::string logFile = (dir / "log.txt").string();
@@ -132,6 +134,7 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, MeshlabServerOnMesh, ::testing::ValuesIn(
                          });
 
 TEST(MeshlabServer, CleanThenCvtScriptsMatchTheCliPipeline) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   // The defective marching-cubes mesh: cracks, non-manifold vertices, tiny components.
   const std::string input = SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply");
   const auto dir = TempDir("mls_cvt");
@@ -184,6 +187,7 @@ TEST(MeshlabServer, BadInputFailsWithOurMessageAndSavesNothing) {
 // with a target edge length 10^4 times below galactose's mean edge: about 10^11 faces) fails with
 // the refusal in the log and saves nothing, instead of being killed by the kernel half way.
 TEST(MeshlabServer, RunBeyondTheMemoryLimitIsRefusedAndSavesNothing) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const auto dir = TempDir("mls_memory");
   std::string script = ReadFile(kScripts + "/full_pipeline.mlx");
   const std::string defaultLength = R"(value="0" name="targetLength")";
@@ -253,6 +257,7 @@ std::string Name(const ::testing::TestParamInfo<std::string>& info) {
 class MeshlabServerRemesh : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MeshlabServerRemesh, CleanCvtRarScriptGivesAValidMeshLikeTheCli) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const std::string input = SharedMesh(GetParam());
   const auto dir = TempDir("mls_remesh");
   const std::string viaServer = (dir / "server.ply").string();
@@ -412,6 +417,7 @@ TEST(MeshlabServer, RemeshScriptsRefuseASingleTriangle) {
 class MeshlabServerFullPipeline : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MeshlabServerFullPipeline, FullPipelineScriptMeetsTheAcceptanceFigures) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const std::string input = SharedMesh(GetParam());
   const auto dir = TempDir("mls_full");
   const std::string viaServer = (dir / "server.ply").string();
@@ -446,6 +452,7 @@ INSTANTIATE_TEST_SUITE_P(AllSharedMeshes, MeshlabServerFullPipeline, ::testing::
 class MeshlabServerValence : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MeshlabServerValence, CleanCvtValenceScriptsReachV567) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const std::string input = SharedMesh(GetParam());
   const auto dir = TempDir("mls_valence");
   const std::string viaServer = (dir / "server.ply").string();
@@ -482,6 +489,7 @@ TEST_P(MeshlabServerValence, CleanCvtValenceScriptsReachV567) {
 INSTANTIATE_TEST_SUITE_P(AllSharedMeshes, MeshlabServerValence, ::testing::ValuesIn(kAllMeshes), Name);
 
 TEST(MeshlabServer, FullPipelineScriptGivesTheCliResult) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   for (const char* mesh : {"bpti_1bpi_msms.ply", "ubiquitin_1UBQ_pymol_ses.ply"}) {
     const auto dir = TempDir("mls_full_cli");
     const std::string viaServer = (dir / "server.ply").string();

@@ -180,6 +180,7 @@ TEST_F(PluginTest, ReportOnNonManifoldAndDegenerateInputChangesNothing) {
 }
 
 TEST_F(PluginTest, ReportLogsTheTableOfARealMesh) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshModel* mm = AddLayer(SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"));
   const LayerSnapshot before = LayerSnapshot::Of(*mm);
   ASSERT_TRUE(Apply(kReport, *mm)) << plugin->errorMsg().toStdString();
@@ -192,6 +193,7 @@ TEST_F(PluginTest, ReportLogsTheTableOfARealMesh) {
 }
 
 TEST_F(PluginTest, ColoringAgreesWithTheQualityReport) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   for (const std::string& path :
        {SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), SharedMesh("lysozyme_Lys1_msms.ply"),
         Fixture("nonmanifold_fan.ply"), Fixture("degenerate_faces.ply")}) {
@@ -233,6 +235,7 @@ TEST_F(PluginTest, CleanMakesANonManifoldLayerManifold) {
 }
 
 TEST_F(PluginTest, CleanClosesTheCracksOfARealMarchingCubesMesh) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshModel* mm = AddLayer(SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"));
   ASSERT_TRUE(Apply(kClean, *mm)) << plugin->errorMsg().toStdString();
   const molremesh::QualityReport after = molremesh::MeshQuality<CMeshO>::Compute(mm->cm);
@@ -264,6 +267,7 @@ TEST_F(PluginTest, StageFiltersRefuseANonManifoldLayerAndLeaveItUntouched) {
 }
 
 TEST_F(PluginTest, FullPipelineGivesEveryAngleWithinTheBoundsAndRegularVertices) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshModel* mm = AddLayer(SharedMesh("bpti_1bpi_msms.ply"));
   ASSERT_TRUE(Apply(kFull, *mm)) << plugin->errorMsg().toStdString();
   const molremesh::QualityReport after = molremesh::MeshQuality<CMeshO>::Compute(mm->cm);
@@ -301,6 +305,7 @@ TEST_F(PluginTest, FullPipelineWarnsWhenTheResultIsNotValid) {
 // down with it), the layer untouched; a memory limit of 1 MB refuses even the real run, and -1
 // turns the check off.
 TEST_F(PluginTest, ResamplingFiltersRefuseARunBeyondTheMemoryLimit) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   for (const QString& name : {kCvt, kRar, kFull}) {
     MeshModel* mm = AddLayer(SharedMesh("galactose_grasp.ply"));
     const LayerSnapshot before = LayerSnapshot::Of(*mm);
@@ -320,6 +325,7 @@ TEST_F(PluginTest, ResamplingFiltersRefuseARunBeyondTheMemoryLimit) {
 }
 
 TEST_F(PluginTest, SegmentationColorsPatchesAndStoresTheirIds) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshModel* mm = AddLayer(SharedMesh("lysozyme_Lys1_msms.ply"));
   const LayerSnapshot before = LayerSnapshot::Of(*mm);
   ASSERT_TRUE(Apply(kSegment, *mm)) << plugin->errorMsg().toStdString();
