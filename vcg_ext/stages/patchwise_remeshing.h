@@ -108,16 +108,6 @@ public:
     std::size_t verticesIn = 0, facesIn = 0, verticesOut = 0, facesOut = 0;
     AdaptiveRemeshingStats patchStats; ///< summed over the patches
     AdaptiveRemeshingStats stripStats;
-    double seconds = 0, secondsSizing = 0, secondsPatches = 0, secondsStitch = 0, secondsCheck = 0,
-           secondsStrip = 0;
-    double secondsStripInit = 0,
-           secondsFinalize = 0; ///< of the strip pass: LocalRemeshingOps::Init, Finalize
-    double secondsPatchSetup =
-        0; ///< of the patches' time: extraction and LocalRemeshingOps::Init, summed over threads
-    double secondsPatchInit = 0; ///< of which LocalRemeshingOps::Init
-
-    /// One "name: value" line per figure, for the pipeline's stage summary.
-    std::string Summary() const;
   };
 
   /// Remeshes m in place. facePatch (indexed like m.face, -1 for deleted faces) gives the patch
@@ -154,8 +144,6 @@ private:
     std::vector<std::array<int, 3>> faces; ///< corners: >= 0 index in verts, < 0 border id -(id + 1)
     std::size_t haloFaces = 0;
     AdaptiveRemeshingStats stats;
-    double secondsSetup = 0; ///< extraction and LocalRemeshingOps::Init
-    double secondsInit = 0;  ///< of which LocalRemeshingOps::Init
   };
   struct Context {
     const Reference* reference = nullptr;
@@ -242,36 +230,6 @@ private:
 // ------------------------------------------------------------------------------------------------
 // Implementation
 // ------------------------------------------------------------------------------------------------
-
-template <class MeshType>
-std::string PatchwiseRemeshing<MeshType>::Result::Summary() const {
-  std::ostringstream s;
-  s << "patches: " << patches << "\n"
-    << "border vertices: " << borderVertices << "\n"
-    << "strip vertices: " << stripVertices << "\n"
-    << "halo faces: " << haloFaces << "\n"
-    << "sizing (x L0): " << minSizing << " .. " << maxSizing << "\n"
-    << "splits: " << patchStats.splits + stripStats.splits << "\n"
-    << "collapses: " << patchStats.collapses + stripStats.collapses << "\n"
-    << "flips: " << patchStats.flips + stripStats.flips << "\n"
-    << "relaxation moves: " << patchStats.movesApplied + stripStats.movesApplied << "\n"
-    << "repair moves/flips/collapses: " << patchStats.repairMoves + stripStats.repairMoves << "/"
-    << patchStats.repairFlips + stripStats.repairFlips << "/"
-    << patchStats.repairCollapses + stripStats.repairCollapses << "\n"
-    << "snapped onto far input vertices: " << patchStats.snapMoves + stripStats.snapMoves << "\n"
-    << "volume offset (x L0): " << std::max(patchStats.volumeOffset, stripStats.volumeOffset) << "\n"
-    << "cross-patch conflicts: " << conflictPairs << "\n"
-    << "patches redone: " << patchesRedone << "\n"
-    << "patches frozen: " << patchesFrozen << "\n"
-    << "patches failed: " << patchesFailed << (firstFailure.empty() ? "" : " (" + firstFailure + ")") << "\n"
-    << "vertices: " << verticesIn << " -> " << verticesOut << "\n"
-    << "faces: " << facesIn << " -> " << facesOut << "\n"
-    << "seconds patch setup / init (all threads): " << secondsPatchSetup << " / " << secondsPatchInit << "\n"
-    << "seconds strip init / finalize: " << secondsStripInit << " / " << secondsFinalize << "\n"
-    << "seconds sizing/patches/stitch/check/strip: " << secondsSizing << "/" << secondsPatches << "/"
-    << secondsStitch << "/" << secondsCheck << "/" << secondsStrip << "\n";
-  return s.str();
-}
 
 template <class MeshType>
 typename PatchwiseRemeshing<MeshType>::InputTopology
@@ -430,7 +388,6 @@ PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& inde
     return fallback;
   };
   if (patchFaces.empty()) return OriginalPatch(g, p);
-  const auto setupStart = std::chrono::steady_clock::now();
 
   // --- Region: the patch's cells, dilated once (where vertices may go) and haloCells times. ---
   std::vector<std::uint64_t> cells, allowed, halo;
@@ -579,14 +536,12 @@ PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& inde
   rarParams.threads = 1;
   Ops ops(local, *ctx.reference, ctx.L0, rarParams.guards, 1);
   std::string error;
-  const auto initStart = std::chrono::steady_clock::now();
   std::vector<int> globalFeet;
   if (!g.globalFeet.empty()) {
     globalFeet.resize(globalOf.size());
     for (std::size_t i = 0; i < globalOf.size(); ++i) globalFeet[i] = g.globalFeet[globalOf[i]];
   }
   if (!ops.Init(&error, false, false, false, globalFeet.empty() ? nullptr : &globalFeet)) return fail(error);
-  const double secondsInit = rar_detail::Seconds(initStart);
   for (std::size_t i = 0; i < globalOf.size(); ++i)
     ops.SetLocked(local.vert[i], i >= nPatchVerts || g.borderId[globalOf[i]] >= 0);
   auto inside = [&allowed, &index](const Point& q) {
@@ -596,8 +551,6 @@ PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& inde
   PatchResult r;
   r.edited = true;
   r.haloFaces = haloFaces.size();
-  r.secondsSetup = rar_detail::Seconds(setupStart);
-  r.secondsInit = secondsInit;
   r.stats = Rar::Remesh(ops, sizing, rarParams, rarParams.iterations, 1, inside);
 
   // --- Read the result back (no compaction: indices below are the ops' ones). ---
@@ -744,10 +697,8 @@ template <class MeshType>
 AdaptiveRemeshingStats PatchwiseRemeshing<MeshType>::StripPass(Global& g, const Context& ctx, int threads,
                                                                Result& result, std::string& error) {
   MeshType& m = g.mesh;
-  auto phase = std::chrono::steady_clock::now();
   Ops ops(m, *ctx.reference, ctx.L0, ctx.params->rar.guards, threads);
   if (!ops.Init(&error)) return {};
-  result.secondsStripInit = rar_detail::Seconds(phase);
   std::size_t& stripVertices = result.stripVertices;
   // Rings around the border vertices, breadth first over the one-rings.
   std::vector<int> ring(m.vert.size(), -1);
@@ -784,9 +735,7 @@ AdaptiveRemeshingStats PatchwiseRemeshing<MeshType>::StripPass(Global& g, const 
     stats = Rar::Remesh(ops, g.sizing, rarParams, ctx.params->borderIterations, threads);
   // Volume, then one more repair pass with nothing locked (the strip's edits change the
   // valences just outside it, the volume offset the shape of triangles on sharp creases).
-  phase = std::chrono::steady_clock::now();
   stats.Add(Rar::Finalize(ops, g.sizing, rarParams, threads));
-  result.secondsFinalize = rar_detail::Seconds(phase);
   ops.Finish();
   return stats;
 }
@@ -795,13 +744,10 @@ template <class MeshType>
 typename PatchwiseRemeshing<MeshType>::Result
 PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const std::vector<int>& facePatch,
                                  const Params& params, vcg::CallBackPos* cb) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
   Result result;
   auto finish = [&](bool ok, const std::string& message) {
     result.ok = ok;
     result.message = message;
-    result.seconds = rar_detail::Seconds(start);
     return result;
   };
   auto progress = [&](int percent, const char* what) {
@@ -855,7 +801,6 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   const int threads = ResolveThreadCount(params.threads);
 
   // --- 1. Sizing, border vertices --------------------------------------------------------------------
-  auto phase = Clock::now();
   progress(2, "RAR: sizing field");
   UpdateAdjacency(m);
   auto rarParams = rp;
@@ -897,7 +842,6 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
     }
   result.borderVertices = ctx.borderPos.size();
   IndexPatches(g0, patchCount);
-  result.secondsSizing = rar_detail::Seconds(phase);
 
   // A single patch (or patches without shared vertices, i.e. one per component and component
   // count 1): plain RAR on the whole mesh with every thread.
@@ -907,7 +851,6 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   MeshType* output = &g0.mesh;
   result.patches = int(nonEmpty);
   if (nonEmpty <= 1) {
-    phase = Clock::now();
     rarParams.threads = threads;
     Ops ops(g0.mesh, reference, L0, rarParams.guards, threads);
     std::string error;
@@ -915,10 +858,8 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
     result.patchStats = Rar::Remesh(ops, g0.sizing, rarParams, rarParams.iterations, threads);
     result.patchStats.Add(Rar::Finalize(ops, g0.sizing, rarParams, threads));
     ops.Finish();
-    result.secondsPatches = rar_detail::Seconds(phase);
   } else {
     // --- 2. Patches in parallel ------------------------------------------------------------------------
-    phase = Clock::now();
     progress(5, "RAR: remeshing the patches");
     double longest = 0;
     for (const FaceType& f : g0.mesh.face)
@@ -958,22 +899,17 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
           },
           1);
     }
-    result.secondsPatches = rar_detail::Seconds(phase);
     // From here on the stitched mesh and the patches' original faces (`original`) are all that is
     // read: the copy of the input goes before the strip pass's mesh grows, so that its memory is
     // reused there (on 4JSV about 90 MB less at the peak).
     ReleaseMesh(g0.mesh);
 
     // --- 3. Stitch; 4. verify and redo conflicting patches -------------------------------------
-    phase = Clock::now();
     Global& g = stitched;
     Stitch(ctx, results, g);
-    result.secondsStitch += rar_detail::Seconds(phase);
     std::vector<char> frozen(static_cast<std::size_t>(patchCount), 0);
     for (int round = 0; round < 4; ++round) {
-      phase = Clock::now();
       const auto pairs = CrossPatchIntersections(g, L0, threads);
-      result.secondsCheck += rar_detail::Seconds(phase);
       std::vector<int> involved;
       for (const auto& [a, b] : pairs) {
         const int pa = g.facePatch[a], pb = g.facePatch[b];
@@ -986,7 +922,6 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
       std::sort(involved.begin(), involved.end());
       involved.erase(std::unique(involved.begin(), involved.end()), involved.end());
       if (involved.empty()) break;
-      phase = Clock::now();
       for (const int q : involved) results[std::size_t(q)] = original[std::size_t(q)];
       Stitch(ctx, results, g);
       if (round == 0) {
@@ -1005,24 +940,19 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
             ++result.patchesFrozen;
           }
       }
-      result.secondsStitch += rar_detail::Seconds(phase);
     }
     for (const PatchResult& r : results) {
       result.patchStats.Add(r.stats);
       result.haloFaces += r.haloFaces;
-      result.secondsPatchSetup += r.secondsSetup;
-      result.secondsPatchInit += r.secondsInit;
       if (r.failed && result.patchesFailed++ == 0) result.firstFailure = r.error;
     }
 
     // --- 5. The strip around the borders; 6. finalize ------------------------------------------
     if (params.finalPasses) {
-      phase = Clock::now();
       progress(80, "RAR: remeshing the strip around the patch borders");
       std::string error;
       result.stripStats = StripPass(g, ctx, threads, result, error);
       if (!error.empty()) return finish(false, "patch-wise remeshing failed in the strip pass: " + error);
-      result.secondsStrip = rar_detail::Seconds(phase);
     }
     output = &g.mesh;
   }
