@@ -1,5 +1,5 @@
-// Human-readable summaries of the stages' results, one "name: value" line per figure, shared by
-// the pipeline's stage records, the CLI and the MeshLab plugin log.
+// Human-readable summaries of the stages' results, one "name: value" line per figure, and the
+// line of stage times, shared by the pipeline's stage records, the CLI and the MeshLab plugin log.
 //
 // The stages' Result types carry data only; their text lives here, as free functions. The local
 // stages' Result types are nested in class templates, so their formatters take the Result as a
@@ -165,6 +165,17 @@ std::string LocalSmoothingSummary(const Result& r) {
          "\nmoves: " + std::to_string(r.moves) + "\nflips: " + std::to_string(r.flips) +
          "\ncollapses: " + std::to_string(r.collapses) + "\nsplits: " + std::to_string(r.splits) +
          "\nrefused: " + std::to_string(r.refused) + "\nrounds: " + std::to_string(r.rounds) + "\n";
+}
+
+/// "stage times (s): clean=... cvt=... total=..." (no newline) from a PipelineResult's stage
+/// records: the one place the run's timing is reported.
+template <class PipelineResult>
+std::string StageTimesLine(const PipelineResult& result) {
+  std::ostringstream s;
+  s << "stage times (s):";
+  for (const auto& stage : result.stages) s << ' ' << stage.name << '=' << stage.seconds;
+  s << " total=" << result.seconds;
+  return s.str();
 }
 
 } // namespace molremesh
