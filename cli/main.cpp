@@ -25,6 +25,7 @@
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/quality/quality_report_format.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>
+#include <vcg_ext/quality/stage_summary.h>
 
 #include "report_json.h"
 
@@ -154,9 +155,7 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   std::cout << "Remeshed " << input << " -> " << output << " (target edge length " << result.targetEdgeLength
             << ", seed " << options.seed << ")\n"
             << molremesh::FormatQualityTable(columns);
-  std::cout << "stage times (s):";
-  for (const auto& stage : result.stages) std::cout << ' ' << stage.name << '=' << stage.seconds;
-  std::cout << " total=" << result.seconds << '\n';
+  std::cout << molremesh::StageTimesLine(result) << '\n';
   for (const auto& stage : result.stages)
     if (!stage.summary.empty()) {
       std::cout << "-- " << stage.name << ":\n" << stage.summary;
@@ -205,6 +204,125 @@ void KeepFreedMemoryInTheHeap() {
 #endif
 }
 
+/// What the command line sets: the arguments of the three subcommands.
+struct CommandLine {
+  std::string input, output;
+  bool json = false, skipSelfIntersections = false; ///< report
+  int reportThreads = 0;                            ///< report
+  double smallAngle = 30.0, obtuseAngle = 90.0;     ///< color
+  RemeshOptions remesh;
+};
+
+CLI::App* AddReportCommand(CLI::App& app, CommandLine& c) {
+  CLI::App* report = app.add_subcommand("report", "Print the quality figures of a mesh (no change to it)");
+  report->add_option("input", c.input, "Mesh file (.ply, .off, .obj, .stl)")->required();
+  report->add_flag("--json", c.json, "Print JSON instead of a table");
+  report->add_flag("--no-self-intersections", c.skipSelfIntersections,
+                   "Skip the self-intersection count (the slowest figure)");
+  report
+      ->add_option("--threads", c.reportThreads,
+                   "Worker threads, 0 = all cores (figures do not depend on it)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  return report;
+}
+
+CLI::App* AddColorCommand(CLI::App& app, CommandLine& c) {
+  CLI::App* color = app.add_subcommand("color", "Write a copy with irregular vertices and obtuse/small-angle "
+                                                "faces colored, quality = valence / min angle");
+  color->add_option("input", c.input, "Mesh file")->required();
+  color->add_option("output", c.output, "Output mesh file (.ply keeps colors and quality)")->required();
+  color->add_option("--small-angle", c.smallAngle, "Faces with an angle below it are blue (degrees)")
+      ->default_val(30.0)
+      ->check(CLI::Range(0.0, 60.0));
+  color->add_option("--obtuse-angle", c.obtuseAngle, "Faces with an angle at or above it are red (degrees)")
+      ->default_val(90.0)
+      ->check(CLI::Range(60.0, 180.0));
+  return color;
+}
+
+CLI::App* AddRemeshCommand(CLI::App& app, CommandLine& c) {
+  std::string stageHelp = "Comma-separated stages to run, in pipeline order (default: all):";
+  for (const auto& info : molremesh::PipelineStages()) stageHelp += std::string(" ") + info.name;
+  CLI::App* remesh = app.add_subcommand("remesh", "Remesh a molecular surface (all stages, or --stages)");
+  remesh->add_option("input", c.input, "Mesh file (.ply, .off, .obj, .stl)")->required();
+  remesh->add_option("output", c.output, "Output mesh file")->required();
+  remesh->add_option("--stages", c.remesh.stages, stageHelp);
+  remesh
+      ->add_option("--target-length", c.remesh.targetLength,
+                   "Target edge length L (default: the cleaned input's mean edge length)")
+      ->check(CLI::NonNegativeNumber);
+  remesh->add_option("--seed", c.remesh.seed, "Seed of every random choice")->default_val(1);
+  remesh
+      ->add_option("--threads", c.remesh.threads,
+                   "Worker threads, 0 = all cores (output does not depend on it)")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  remesh->add_option("--cvt-iterations", c.remesh.cvtIterations, "Lloyd iterations of the CVT stage")
+      ->default_val(42)
+      ->check(CLI::Range(0, 10000));
+  remesh
+      ->add_option("--surface-lift", c.remesh.surfaceLift,
+                   "Share of the way from the input's flat triangles to its smooth (Phong) surface that "
+                   "projected vertices go (at most 0.05 mean edge lengths, none at creases); 0 = on the "
+                   "flat triangles")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  remesh->add_option("--patches", c.remesh.patches, "Patches of the segmentation, 0 = automatic")
+      ->default_val(0)
+      ->check(CLI::NonNegativeNumber);
+  remesh->add_option("--min-angle", c.remesh.minAngle, "Min angle (deg): no edit creates one below it")
+      ->default_val(30.0)
+      ->check(CLI::Range(0.0, 59.0));
+  remesh
+      ->add_option("--max-angle", c.remesh.maxAngle,
+                   "Max angle (deg) of valence optimization and small-angle elimination")
+      ->default_val(120.0)
+      ->check(CLI::Range(61.0, 180.0));
+  remesh
+      ->add_option("--obtuse-thresholds", c.remesh.obtuseThresholds,
+                   "Max-angle thresholds (deg) of obtuse reduction, in order")
+      ->default_str("110 100 90")
+      ->check(CLI::Range(60.0, 180.0));
+  remesh
+      ->add_option("--translation-iterations", c.remesh.translationIterations,
+                   "Vertex translation rounds per obtuse threshold")
+      ->default_val(20)
+      ->check(CLI::Range(0, 10000));
+  remesh
+      ->add_option("--area-factor", c.remesh.areaFactor,
+                   "Valence optimization: a hole grows while its area is below this x the mean face area")
+      ->default_val(9.0)
+      ->check(CLI::NonNegativeNumber);
+  remesh
+      ->add_option("--merge-tolerance", c.remesh.mergeTolerance,
+                   "Clean: merge vertices closer than this x the mean edge length")
+      ->default_val(c.remesh.mergeTolerance)
+      ->check(CLI::NonNegativeNumber);
+  remesh
+      ->add_option("--max-hole-edges", c.remesh.maxHoleEdges,
+                   "Clean: close holes with at most this many boundary edges")
+      ->default_val(c.remesh.maxHoleEdges)
+      ->check(CLI::NonNegativeNumber);
+  remesh
+      ->add_option(
+          "--min-component-percent", c.remesh.minComponentPercent,
+          "Clean: remove components with fewer than this % of the faces (never the largest; 0 keeps all)")
+      ->default_val(c.remesh.minComponentPercent)
+      ->check(CLI::Range(0.0, 100.0));
+  remesh
+      ->add_option("--memory-limit", c.remesh.memoryLimitMB,
+                   "Refuse (exit status 2, nothing written) a run whose estimated peak memory exceeds this "
+                   "many MB; 0 = the memory available at the start, -1 = no check")
+      ->default_val(0)
+      ->check(CLI::Range(-1.0, 1e12));
+  remesh->add_option("--json", c.remesh.jsonPath, "Also write the per-stage figures as JSON to this file");
+  remesh->add_flag("--quiet", c.remesh.quiet, "No progress lines on stderr");
+  remesh->add_flag("--check-each-stage", c.remesh.checkEachStage,
+                   "Count self-intersections after every stage (default: input and output only)");
+  return remesh;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -215,111 +333,10 @@ int main(int argc, char** argv) {
              "2 unusable input, a failed stage or a run refused for memory (nothing written), 3 output "
              "written but not a valid surface mesh (the warnings say why).");
 
-  std::string input, output;
-  bool json = false, skipSelfIntersections = false;
-  int reportThreads = 0;
-  auto* report = app.add_subcommand("report", "Print the quality figures of a mesh (no change to it)");
-  report->add_option("input", input, "Mesh file (.ply, .off, .obj, .stl)")->required();
-  report->add_flag("--json", json, "Print JSON instead of a table");
-  report->add_flag("--no-self-intersections", skipSelfIntersections,
-                   "Skip the self-intersection count (the slowest figure)");
-  report
-      ->add_option("--threads", reportThreads, "Worker threads, 0 = all cores (figures do not depend on it)")
-      ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
-
-  double smallAngle = 30.0, obtuseAngle = 90.0;
-  auto* color = app.add_subcommand("color", "Write a copy with irregular vertices and obtuse/small-angle "
-                                            "faces colored, quality = valence / min angle");
-  color->add_option("input", input, "Mesh file")->required();
-  color->add_option("output", output, "Output mesh file (.ply keeps colors and quality)")->required();
-  color->add_option("--small-angle", smallAngle, "Faces with an angle below it are blue (degrees)")
-      ->default_val(30.0)
-      ->check(CLI::Range(0.0, 60.0));
-  color->add_option("--obtuse-angle", obtuseAngle, "Faces with an angle at or above it are red (degrees)")
-      ->default_val(90.0)
-      ->check(CLI::Range(60.0, 180.0));
-
-  RemeshOptions remeshOptions;
-  std::string stageHelp = "Comma-separated stages to run, in pipeline order (default: all):";
-  for (const auto& info : molremesh::PipelineStages()) stageHelp += std::string(" ") + info.name;
-  auto* remesh = app.add_subcommand("remesh", "Remesh a molecular surface (all stages, or --stages)");
-  remesh->add_option("input", input, "Mesh file (.ply, .off, .obj, .stl)")->required();
-  remesh->add_option("output", output, "Output mesh file")->required();
-  remesh->add_option("--stages", remeshOptions.stages, stageHelp);
-  remesh
-      ->add_option("--target-length", remeshOptions.targetLength,
-                   "Target edge length L (default: the cleaned input's mean edge length)")
-      ->check(CLI::NonNegativeNumber);
-  remesh->add_option("--seed", remeshOptions.seed, "Seed of every random choice")->default_val(1);
-  remesh
-      ->add_option("--threads", remeshOptions.threads,
-                   "Worker threads, 0 = all cores (output does not depend on it)")
-      ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
-  remesh->add_option("--cvt-iterations", remeshOptions.cvtIterations, "Lloyd iterations of the CVT stage")
-      ->default_val(42)
-      ->check(CLI::Range(0, 10000));
-  remesh
-      ->add_option("--surface-lift", remeshOptions.surfaceLift,
-                   "Share of the way from the input's flat triangles to its smooth (Phong) surface that "
-                   "projected vertices go (at most 0.05 mean edge lengths, none at creases); 0 = on the "
-                   "flat triangles")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
-  remesh->add_option("--patches", remeshOptions.patches, "Patches of the segmentation, 0 = automatic")
-      ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
-  remesh->add_option("--min-angle", remeshOptions.minAngle, "Min angle (deg): no edit creates one below it")
-      ->default_val(30.0)
-      ->check(CLI::Range(0.0, 59.0));
-  remesh
-      ->add_option("--max-angle", remeshOptions.maxAngle,
-                   "Max angle (deg) of valence optimization and small-angle elimination")
-      ->default_val(120.0)
-      ->check(CLI::Range(61.0, 180.0));
-  remesh
-      ->add_option("--obtuse-thresholds", remeshOptions.obtuseThresholds,
-                   "Max-angle thresholds (deg) of obtuse reduction, in order")
-      ->default_str("110 100 90")
-      ->check(CLI::Range(60.0, 180.0));
-  remesh
-      ->add_option("--translation-iterations", remeshOptions.translationIterations,
-                   "Vertex translation rounds per obtuse threshold")
-      ->default_val(20)
-      ->check(CLI::Range(0, 10000));
-  remesh
-      ->add_option("--area-factor", remeshOptions.areaFactor,
-                   "Valence optimization: a hole grows while its area is below this x the mean face area")
-      ->default_val(9.0)
-      ->check(CLI::NonNegativeNumber);
-  remesh
-      ->add_option("--merge-tolerance", remeshOptions.mergeTolerance,
-                   "Clean: merge vertices closer than this x the mean edge length")
-      ->default_val(remeshOptions.mergeTolerance)
-      ->check(CLI::NonNegativeNumber);
-  remesh
-      ->add_option("--max-hole-edges", remeshOptions.maxHoleEdges,
-                   "Clean: close holes with at most this many boundary edges")
-      ->default_val(remeshOptions.maxHoleEdges)
-      ->check(CLI::NonNegativeNumber);
-  remesh
-      ->add_option(
-          "--min-component-percent", remeshOptions.minComponentPercent,
-          "Clean: remove components with fewer than this % of the faces (never the largest; 0 keeps all)")
-      ->default_val(remeshOptions.minComponentPercent)
-      ->check(CLI::Range(0.0, 100.0));
-  remesh
-      ->add_option("--memory-limit", remeshOptions.memoryLimitMB,
-                   "Refuse (exit status 2, nothing written) a run whose estimated peak memory exceeds this "
-                   "many MB; 0 = the memory available at the start, -1 = no check")
-      ->default_val(0)
-      ->check(CLI::Range(-1.0, 1e12));
-  remesh->add_option("--json", remeshOptions.jsonPath,
-                     "Also write the per-stage figures as JSON to this file");
-  remesh->add_flag("--quiet", remeshOptions.quiet, "No progress lines on stderr");
-  remesh->add_flag("--check-each-stage", remeshOptions.checkEachStage,
-                   "Count self-intersections after every stage (default: input and output only)");
+  CommandLine c;
+  CLI::App* report = AddReportCommand(app, c);
+  CLI::App* color = AddColorCommand(app, c);
+  CLI::App* remesh = AddRemeshCommand(app, c);
 
   try {
     app.parse(argc, argv);
@@ -328,9 +345,9 @@ int main(int argc, char** argv) {
   }
 
   try {
-    if (*report) return RunReport(input, json, skipSelfIntersections, reportThreads);
-    if (*color) return RunColor(input, output, smallAngle, obtuseAngle);
-    if (*remesh) return RunRemesh(input, output, remeshOptions);
+    if (*report) return RunReport(c.input, c.json, c.skipSelfIntersections, c.reportThreads);
+    if (*color) return RunColor(c.input, c.output, c.smallAngle, c.obtuseAngle);
+    if (*remesh) return RunRemesh(c.input, c.output, c.remesh);
   } catch (const InputError& e) {
     std::cerr << "molremesh: error: " << e.what() << '\n';
     return kExitBadInput;

@@ -7,6 +7,7 @@
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/quality/quality_report_format.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>
+#include <vcg_ext/quality/stage_summary.h>
 
 #include "filter_molremesh.h"
 
@@ -581,11 +582,7 @@ bool FilterMolRemeshPlugin::runStages(MeshModel& mm, const std::vector<int>& sta
     LogLines([this](const std::string& line) { Log(line); }, stage.summary);
   }
   LogLines([this](const std::string& line) { Log(line); }, molremesh::FormatQualityTable(columns));
-  std::ostringstream times;
-  times << "stage times (s):";
-  for (const auto& stage : result.stages) times << ' ' << stage.name << '=' << stage.seconds;
-  times << " total=" << result.seconds;
-  Log(times.str().c_str());
+  Log(molremesh::StageTimesLine(result).c_str());
   // The layer takes the result either way (it is better than the input), but never in silence
   // when it misses a promise: the warnings say what and why.
   LogLines([this](const std::string& line) { Log(GLLogStream::WARNING, line.c_str()); },

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <vcg_ext/clean/clean_raw_mesh.h>
+#include <vcg_ext/quality/stage_summary.h>
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/mesh_types.h>
@@ -516,7 +517,7 @@ TEST(CleanRawMesh, TinyExtraComponentIsRemovedAndCounted) {
       EXPECT_EQ(r.removedOrphanedVertices, 4u);
       EXPECT_EQ(std::size_t(m.fn), faces);
       EXPECT_EQ(r.componentsAfter, 1u);
-      EXPECT_NE(r.Summary().find("removed small components: 1"), std::string::npos);
+      EXPECT_NE(CleanRawMeshSummary(r).find("removed small components: 1"), std::string::npos);
     } else {
       EXPECT_EQ(r.removedSmallComponents, 0u);
       EXPECT_EQ(r.componentsAfter, 2u);
@@ -625,7 +626,7 @@ void ExpectRefusedUnchanged(MeshD& m, const std::string& expected,
         EXPECT_EQ(after.points[i][k], before.points[i][k]);
       }
     }
-  EXPECT_NE(r.Summary().find("refused"), std::string::npos);
+  EXPECT_NE(CleanRawMeshSummary(r).find("refused"), std::string::npos);
 }
 
 TEST(CleanRawMesh, RefusesEmptyMeshPointCloudAndNaN) {

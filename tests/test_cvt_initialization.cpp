@@ -170,7 +170,6 @@ TEST(CvtInitialization, SphereWithDefaultParameters) {
   const Cvt::Result r = RunAndCheck(m);
   EXPECT_EQ(r.iterations, 42);
   EXPECT_GT(r.movesApplied, 0u);
-  EXPECT_GE(r.seconds, 0.0);
 }
 
 TEST(CvtInitialization, TorusKeepsItsGenus) {

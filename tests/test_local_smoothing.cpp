@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <vcg_ext/stages/local_smoothing.h>
+#include <vcg_ext/quality/stage_summary.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>
@@ -47,8 +48,8 @@ TEST(LocalSmoothing, ReducesTheBadTrianglesOfAConstructedSphere) {
   const Smoothing::Result r = Smoothing::Do(m, reference, ParamsFor(m));
   ASSERT_TRUE(r.ok) << r.message;
   const molremesh::QualityReport after = Quality::Compute(m);
-  EXPECT_LT(r.badAfter, r.badBefore) << r.Summary();
-  EXPECT_LT(after.obtuseFaces, before.obtuseFaces) << r.Summary();
+  EXPECT_LT(r.badAfter, r.badBefore) << LocalSmoothingSummary(r);
+  EXPECT_LT(after.obtuseFaces, before.obtuseFaces) << LocalSmoothingSummary(r);
   EXPECT_LE(after.smallAngleFaces, before.smallAngleFaces);
   EXPECT_LE(after.angleMax, before.angleMax);
   EXPECT_GE(after.angleMin, std::min(before.angleMin, 30.0) - 1e-9);
@@ -118,9 +119,9 @@ TEST_P(LocalSmoothingReal, ReducesBadTrianglesWithoutNewSmallAnglesAndKeepsTheIn
   Smoothing::Result r;
   ASSERT_NO_FATAL_FAILURE(molremesh::test::RunOnCopy<Smoothing>(run, r));
   const molremesh::QualityReport &before = run.before, &after = run.after;
-  EXPECT_LE(r.badAfter, r.badBefore) << r.Summary();
+  EXPECT_LE(r.badAfter, r.badBefore) << LocalSmoothingSummary(r);
   if (r.badBefore > 0) {
-    EXPECT_LT(after.obtusePercent, before.obtusePercent) << r.Summary();
+    EXPECT_LT(after.obtusePercent, before.obtusePercent) << LocalSmoothingSummary(r);
   }
   EXPECT_LE(after.smallAngleFaces, before.smallAngleFaces);
   EXPECT_GE(after.angleMin, std::min(before.angleMin, 30.0) - 1e-9);

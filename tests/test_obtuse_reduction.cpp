@@ -13,6 +13,7 @@
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/stages/obtuse_reduction.h>
+#include <vcg_ext/quality/stage_summary.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>
 
 #include "local_stage_test_helpers.h"
@@ -48,8 +49,8 @@ TEST(ObtuseReduction, ReducesTheObtuseTrianglesOfAConstructedSphere) {
   const Obtuse::Result r = Obtuse::Do(m, reference, ParamsFor(m));
   ASSERT_TRUE(r.ok) << r.message;
   const molremesh::QualityReport after = Quality::Compute(m);
-  EXPECT_LT(after.angleMax, 90.0) << r.Summary();
-  EXPECT_EQ(after.obtuseFaces, 0u) << r.Summary();
+  EXPECT_LT(after.angleMax, 90.0) << ObtuseReductionSummary(r);
+  EXPECT_EQ(after.obtuseFaces, 0u) << ObtuseReductionSummary(r);
   EXPECT_GE(after.angleMin, std::min(before.angleMin, 30.0) - 1e-9);
   EXPECT_EQ(r.obtuseAfter, after.obtuseFaces);
   molremesh::test::ExpectTwoManifoldWithoutDegenerateFaces(after);
@@ -67,7 +68,7 @@ TEST(ObtuseReduction, PentagonInsertionAloneRemovesObtuseTriangles) {
   p.iterationsPerThreshold = 0; // no translation round: only the insertions (and one last round)
   const Obtuse::Result r = Obtuse::Do(m, reference, p);
   ASSERT_TRUE(r.ok) << r.message;
-  EXPECT_GT(r.insertions, 0u) << r.Summary();
+  EXPECT_GT(r.insertions, 0u) << ObtuseReductionSummary(r);
   const molremesh::QualityReport after = Quality::Compute(m);
   EXPECT_LT(after.obtuseFaces, before.obtuseFaces);
   EXPECT_GE(after.angleMin, std::min(before.angleMin, 30.0) - 1e-9);
@@ -135,8 +136,8 @@ TEST_P(ObtuseReductionReal, ReducesObtuseTrianglesWithoutSmallAnglesAndKeepsTheI
   Obtuse::Result r;
   ASSERT_NO_FATAL_FAILURE(molremesh::test::RunOnCopy<Obtuse>(run, r));
   const molremesh::QualityReport &before = run.before, &after = run.after;
-  EXPECT_LT(after.obtusePercent, before.obtusePercent) << r.Summary();
-  EXPECT_LE(after.obtusePercent, c.maxObtusePercent) << r.Summary();
+  EXPECT_LT(after.obtusePercent, before.obtusePercent) << ObtuseReductionSummary(r);
+  EXPECT_LE(after.obtusePercent, c.maxObtusePercent) << ObtuseReductionSummary(r);
   EXPECT_LE(after.angleMax, before.angleMax);
   EXPECT_LE(after.smallAngleFaces, before.smallAngleFaces);
   EXPECT_GE(after.angleMin, std::min(before.angleMin, 30.0) - 1e-9);

@@ -58,7 +58,7 @@ TEST(SmallAngleElimination, RemovesTheSliversOfAConstructedSphere) {
   const Small::Result r = Small::Do(m, reference, ParamsFor(m));
   ASSERT_TRUE(r.ok) << r.message;
   const molremesh::QualityReport after = Quality::Compute(m);
-  EXPECT_EQ(after.smallAngleFaces, 0u) << r.Summary();
+  EXPECT_EQ(after.smallAngleFaces, 0u) << SmallAngleEliminationSummary(r);
   EXPECT_GE(after.angleMin, 30.0 - 1e-9);
   EXPECT_EQ(r.smallFacesAfter, 0u);
   EXPECT_GT(r.smallFacesBefore, 0u);
@@ -123,7 +123,7 @@ TEST_P(SmallAngleEliminationReal, LeavesNoAngleBelow30AndKeepsTheInvariants) {
   Small::Result r;
   ASSERT_NO_FATAL_FAILURE(molremesh::test::RunOnCopy<Small>(run, r));
   const molremesh::QualityReport& after = run.after;
-  EXPECT_EQ(after.smallAngleFaces, 0u) << r.Summary();
+  EXPECT_EQ(after.smallAngleFaces, 0u) << SmallAngleEliminationSummary(r);
   EXPECT_EQ(r.smallFacesAfter, after.smallAngleFaces);
   molremesh::test::ExpectLocalStageInvariants(run);
 }

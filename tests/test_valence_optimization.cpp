@@ -162,14 +162,14 @@ TEST_P(ConstructedIrregular, EndsRegularWithoutNewBadAngles) {
   const VO::Result r = RunStage(m, params);
   ASSERT_TRUE(r.ok) << r.message;
   const QualityReport after = Quality(m);
-  EXPECT_EQ(VO::Census(m).irregular, 0u) << r.Summary();
-  EXPECT_LE(r.smallAnglesAfter, r.smallAnglesBefore) << r.Summary();
+  EXPECT_EQ(VO::Census(m).irregular, 0u) << ValenceOptimizationSummary(r);
+  EXPECT_LE(r.smallAnglesAfter, r.smallAnglesBefore) << ValenceOptimizationSummary(r);
   EXPECT_GE(after.angleMin, std::min(before.angleMin, 30.0) - 1e-9);
   ExpectTwoManifoldWithoutDegenerateFaces(after);
   ExpectNoSelfIntersection(after);
   ExpectComponentsClosedWithTheirGenus(before, after);
   if (!GetParam().flips) {
-    EXPECT_GT(r.filledZero + r.filledOne + r.filledTwo, 0u) << r.Summary();
+    EXPECT_GT(r.filledZero + r.filledOne + r.filledTwo, 0u) << ValenceOptimizationSummary(r);
   }
 }
 
@@ -268,8 +268,8 @@ TEST(ValenceOptimization, HoleWithoutFeasiblePointLeavesMeshNoWorse) {
   ASSERT_TRUE(r.ok) << r.message;
   const QualityReport after = Quality(m);
   EXPECT_LE(VO::Census(m).irregular, censusBefore.irregular);
-  EXPECT_LE(r.smallAnglesAfter, r.smallAnglesBefore) << r.Summary();
-  EXPECT_GE(after.angleMin, before.angleMin - 1e-9) << r.Summary();
+  EXPECT_LE(r.smallAnglesAfter, r.smallAnglesBefore) << ValenceOptimizationSummary(r);
+  EXPECT_GE(after.angleMin, before.angleMin - 1e-9) << ValenceOptimizationSummary(r);
   ExpectTwoManifoldWithoutDegenerateFaces(after);
   ExpectNoSelfIntersection(after);
   ExpectComponentsClosedWithTheirGenus(before, after);

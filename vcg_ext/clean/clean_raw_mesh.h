@@ -168,69 +168,6 @@ struct CleanRawMeshResult {
   /// The whole report of the result the figures above come from (MeshQuality with the cleaning's
   /// degenerateAreaEpsilon and thread count; self-intersections when measureSelfIntersections).
   QualityReport reportAfter;
-
-  /// One line per figure, "name: value", for logs.
-  std::string Summary() const {
-    if (!ok) return "clean raw mesh refused: " + message + "\n";
-    std::string s;
-    auto line = [&s](const char* name, std::size_t value) {
-      s += std::string(name) + ": " + std::to_string(value) + "\n";
-    };
-    auto real = [&s](const char* name, double value) {
-      char buffer[64];
-      std::snprintf(buffer, sizeof buffer, "%.6g", value);
-      s += std::string(name) + ": " + buffer + "\n";
-    };
-    line("vertices before", verticesBefore);
-    line("faces before", facesBefore);
-    line("merged vertices", mergedVertices);
-    line("removed unreferenced vertices", removedUnreferencedVertices);
-    line("removed duplicate faces", removedDuplicateFaces);
-    line("removed degenerate faces", removedDegenerateFaces);
-    line("flipped degenerate faces", flippedDegenerateFaces);
-    line("collapsed degenerate edges", collapsedDegenerateEdges);
-    line("remaining degenerate faces", remainingDegenerateFaces);
-    line("removed non-manifold faces", removedNonManifoldFaces);
-    line("split non-manifold vertices", splitNonManifoldVertices);
-    line("retriangulated pinch fans", retriangulatedPinchFans);
-    line("pinch fan faces removed", pinchFanFacesRemoved);
-    line("pinch fan faces added", pinchFanFacesAdded);
-    line("moved split vertices", movedSplitVertices);
-    line("touching split vertices", touchingSplitVertices);
-    line("flipped faces for orientation", flippedFacesForOrientation);
-    line("flipped components", flippedComponents);
-    line("non-orientable components", nonOrientableComponents);
-    line("removed small components", removedSmallComponents);
-    line("removed component faces", removedComponentFaces);
-    line("repaired tangles", repairedTangles);
-    line("unrepaired tangles", unrepairedTangles);
-    line("tangle faces removed", tangleFacesRemoved);
-    line("tangle faces added", tangleFacesAdded);
-    line("closed holes", closedHoles);
-    line("hole faces added", holeFacesAdded);
-    line("grown holes", grownHoles);
-    line("faces removed around grown holes", holeFacesRemoved);
-    line("unfilled holes", unfilledHoles);
-    line("largest unfilled hole edges", largestUnfilledHoleEdges);
-    line("removed orphaned vertices", removedOrphanedVertices);
-    if (selfIntersectionsMeasured) {
-      line("self-intersecting faces before", selfIntersectingFacesBefore);
-      line("self-intersecting faces after", selfIntersectingFacesAfter);
-    }
-    line("vertices after", verticesAfter);
-    line("faces after", facesAfter);
-    line("boundary edges after", boundaryEdgesAfter);
-    line("non-manifold edges after", nonManifoldEdgesAfter);
-    line("non-manifold vertices after", nonManifoldVerticesAfter);
-    line("degenerate faces after", degenerateFacesAfter);
-    line("components after", componentsAfter);
-    s += "genus after: " + std::to_string(genusAfter) + "\n";
-    real("area before", areaBefore);
-    real("area after", areaAfter);
-    real("volume before", volumeBefore);
-    real("volume after", volumeAfter);
-    return s;
-  }
 };
 
 template <class MeshType>

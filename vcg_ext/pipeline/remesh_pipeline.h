@@ -38,6 +38,7 @@
 #include <vcg_ext/stages/small_angle_elimination.h>
 #include <vcg_ext/geometry/triangle_angles.h>
 #include <vcg_ext/stages/valence_optimization.h>
+#include <vcg_ext/quality/stage_summary.h>
 
 namespace molremesh {
 
@@ -245,265 +246,40 @@ public:
                            vcg::CallBackPos* cb = nullptr) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
-    PipelineResult result;
-    auto say = [&](const std::string& line) {
-      if (log) log(line);
-    };
-    const InputCheck check = CheckTriangleMeshInput(m);
-    if (!check.ok) {
-      result.ok = false;
-      result.message = check.message;
-      return result;
-    }
-    if (std::string why = MemoryCheck(m, params); !why.empty()) {
-      result.ok = false;
-      result.refusedForMemory = true;
-      result.message = "refused: " + why + " (the mesh is unchanged)";
-      say(result.message);
-      return result;
-    }
-    typename MeshQuality<MeshType>::Params qualityParams;
-    qualityParams.threads = params.threads;
-    // The reports are measured on a copy of the mesh (QualityCapture), each on a thread of its own
-    // and one core, while the next stage runs: the stages are serial for long stretches, so a
-    // report mostly takes the idle core instead of adding its time. The figures do not depend on
-    // the thread count. A report is waited for where it is read: the target edge length (taken
-    // from the last report) and the end. The last stage's report has nothing to overlap and runs
-    // on all threads.
-    PendingReport inputReport = MeasureLater(m, qualityParams);
-    std::vector<PendingReport> stageReports; // one per record in result.stages
-    auto resolveReports = [&]() {
-      if (inputReport.future.valid()) result.input = inputReport.Get();
-      for (std::size_t i = 0; i < stageReports.size() && i < result.stages.size(); ++i)
-        if (stageReports[i].future.valid()) result.stages[i].after = stageReports[i].Get();
-    };
-
-    MeshType backup;
-    if (params.restoreOnFailure) vcg::tri::Append<MeshType, MeshType>::MeshCopy(backup, m);
-    auto fail = [&](PipelineStageRecord& record, const std::string& why) {
-      record.ok = false;
-      record.summary = why;
-      result.stages.push_back(record);
-      result.ok = false;
-      result.message = std::string("stage '") + record.name + "' failed: " + why;
-      resolveReports();
-      if (params.restoreOnFailure) {
-        result.message += " (the mesh is unchanged)";
-        vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, backup);
-        UpdateAdjacency(m);
-      }
-      say(result.message);
-      return result;
-    };
-
-    std::unique_ptr<ReferenceSurface<MeshType>> reference;
-    auto ensureReference = [&]() -> std::string {
-      if (reference) return {};
-      reference = std::make_unique<ReferenceSurface<MeshType>>();
-      std::string error;
-      // The lift recovers the curved surface the molecular input's vertices sample. Only a run
-      // that both resamples that input (CVT) and remeshes it to the final resolution (RAR) lifts.
-      // A run that starts later gets a remesh as its reference, whose vertices a lift would move
-      // again, stage after stage; a run that stopped after CVT would hand a lifted layer to the next
-      // run as its reference, which is no longer the input (the filters, one per stage, chain so).
-      typename ReferenceSurface<MeshType>::Params referenceParams = params.reference;
-      const auto runs = [&](PipelineStage stage) {
-        return std::find(params.stages.begin(), params.stages.end(), stage) != params.stages.end();
-      };
-      if (!runs(PipelineStage::Cvt) || !runs(PipelineStage::Rar)) referenceParams.phongAlpha = 0;
-      if (!reference->Build(m, referenceParams, &error)) return error;
-      return {};
-    };
-    auto ensureTargetLength = [&]() {
-      if (result.targetEdgeLength > 0) return;
-      if (params.targetEdgeLength > 0) {
-        result.targetEdgeLength = params.targetEdgeLength;
-        return;
-      }
-      // The last report already measured m as it is now (the input, or the previous stage's
-      // output): no second pass over the mesh.
-      resolveReports();
-      if (result.stages.empty())
-        result.targetEdgeLength = result.input.meanEdgeLength;
-      else if (params.measureEachStage)
-        result.targetEdgeLength = result.stages.back().after.meanEdgeLength;
-      else
-        result.targetEdgeLength =
-            MeshQuality<MeshType>::Compute(m, NoIntersections(params.threads)).meanEdgeLength;
-    };
-
+    RunState run(m, params, log);
+    if (!run.Admit()) return run.result;
     const std::size_t stageCount = params.stages.size();
-    OutputTargets targets; // the causes are filled in by the clean stage
     for (std::size_t s = 0; s < stageCount; ++s) {
       const PipelineStage stage = params.stages[s];
+      const bool last = s + 1 == stageCount;
       PipelineStageRecord record;
       record.name = StageName(stage);
-      say(std::string("stage ") + record.name + " ...");
+      run.Say(std::string("stage ") + record.name + " ...");
       if (cb) cb(int(100 * s / std::max<std::size_t>(1, stageCount)), record.name.c_str());
       const auto stageStart = Clock::now();
       std::optional<QualityReport> cleanReport; // the cleaning's own report of its result
       // A stage that leaves the mesh as it found it (segmentation always, a local stage with
       // nothing to fix) reuses the previous report instead of measuring the same mesh again.
-      const bool mayReuseReport = params.measureEachStage && !result.stages.empty();
+      const bool mayReuseReport = params.measureEachStage && !run.result.stages.empty();
       const GeometrySnapshot before = mayReuseReport ? GeometrySnapshot::Of(m) : GeometrySnapshot();
-      // The stages from valence on share one interface (see RunLocalStage).
-      auto runLocal = [&](auto tag, const auto& stageParams) -> std::string {
-        using Stage = typename decltype(tag)::Type;
-        ensureTargetLength();
-        if (std::string error = ensureReference(); !error.empty()) return error;
-        return RunLocalStage<Stage>(m, *reference, stageParams, result, params, record.summary);
-      };
       // Segmentation walks face-face adjacency without building it (RAR may segment first); every
       // other stage builds the adjacency it needs on entry.
-      if (stage == PipelineStage::Segment || stage == PipelineStage::Rar) {
-        UpdateAdjacency(m);
-      }
-
-      // A surface to remesh needs at least a tetrahedron's 4 faces; fewer (a lone triangle, a
-      // pair) are refused with a message rather than passed through unchanged. (Cleaning runs
-      // first, so an all-degenerate mesh is reported as such.)
-      if (stage != PipelineStage::Clean && m.fn < kMinFaces)
-        return fail(record, "the mesh has only " + std::to_string(m.fn) + " face" + (m.fn == 1 ? "" : "s") +
-                                ": too few to remesh (a closed surface has at least " +
-                                std::to_string(kMinFaces) + ")");
-      switch (stage) {
-      case PipelineStage::Clean: {
-        auto cleanParams = params.clean;
-        cleanParams.threads = params.threads;
-        // Its own before/after intersection counts would repeat the pipeline's input report and
-        // final report (two grid sweeps), unless it is the last stage or every stage is checked.
-        if (!params.intersectionsEachStage && s + 1 < stageCount)
-          cleanParams.measureSelfIntersections = false;
-        const auto r = CleanRawMesh<MeshType>::Do(m, cleanParams);
-        if (!r.ok) return fail(record, r.message);
-        record.summary = r.Summary();
-        targets.unrepairedTangles = r.unrepairedTangles;
-        targets.unfilledHoles = r.unfilledHoles;
-        targets.largestUnfilledHoleEdges = r.largestUnfilledHoleEdges;
-        targets.maxHoleEdges = cleanParams.maxHoleEdges;
-        // The cleaning measured its result already: that report is the stage's when it was taken
-        // the way the stage report would be.
-        if (cleanParams.degenerateAreaEpsilon == qualityParams.degenerateAreaEpsilon &&
-            cleanParams.measureSelfIntersections == (params.intersectionsEachStage || s + 1 == stageCount))
-          cleanReport = r.reportAfter;
-        break;
-      }
-      case PipelineStage::Cvt: {
-        ensureTargetLength();
-        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
-        auto cvtParams = params.cvt;
-        if (cvtParams.targetEdgeLength <= 0 && cvtParams.targetVertexCount == 0)
-          cvtParams.targetEdgeLength = result.targetEdgeLength;
-        cvtParams.threads = params.threads;
-        const auto r = CvtInitialization<MeshType>::Do(m, *reference, cvtParams);
-        if (!r.ok) return fail(record, r.message);
-        record.summary = r.message;
-        break;
-      }
-      case PipelineStage::Segment: {
-        auto segmentParams = params.segment;
-        segmentParams.seed = params.seed;
-        SegmentationResult r = RandomSegmentation<MeshType>::Do(m, segmentParams);
-        if (!r.ok) return fail(record, r.message);
-        record.summary = "patches: " + std::to_string(r.patchCount) +
-                         "\nborder edges: " + std::to_string(r.borderEdges) +
-                         "\nborder vertices: " + std::to_string(r.borderVertices) + "\n";
-        result.patchCount = r.patchCount;
-        result.facePatch = std::move(r.facePatch);
-        break;
-      }
-      case PipelineStage::Rar: {
-        ensureTargetLength();
-        if (const std::string error = ensureReference(); !error.empty()) return fail(record, error);
-        std::string segmentSummary;
-        if (result.facePatch.size() != m.face.size()) {
-          // No segmentation of this mesh yet: segment with the pipeline's seed first.
-          auto segmentParams = params.segment;
-          segmentParams.seed = params.seed;
-          SegmentationResult seg = RandomSegmentation<MeshType>::Do(m, segmentParams);
-          if (!seg.ok) return fail(record, seg.message);
-          segmentSummary = "segmented first: " + std::to_string(seg.patchCount) + " patches\n";
-          result.patchCount = seg.patchCount;
-          result.facePatch = std::move(seg.facePatch);
-        }
-        auto rarParams = params.rar;
-        if (rarParams.rar.targetEdgeLength <= 0) rarParams.rar.targetEdgeLength = result.targetEdgeLength;
-        rarParams.threads = params.threads;
-        const auto r = PatchwiseRemeshing<MeshType>::Do(m, *reference, result.facePatch, rarParams);
-        if (!r.ok) return fail(record, r.message);
-        record.summary = segmentSummary + r.Summary();
-        // The faces changed: the segmentation no longer describes them.
-        result.facePatch.clear();
-        result.patchCount = 0;
-        break;
-      }
-      case PipelineStage::Valence:
-        if (const std::string error = runLocal(Tag<ValenceOptimization<MeshType>>(), params.valence);
-            !error.empty())
-          return fail(record, error);
-        break;
-      case PipelineStage::Small:
-        if (const std::string error = runLocal(Tag<SmallAngleElimination<MeshType>>(), params.small);
-            !error.empty())
-          return fail(record, error);
-        break;
-      case PipelineStage::Obtuse:
-        if (const std::string error = runLocal(Tag<ObtuseReduction<MeshType>>(), params.obtuse);
-            !error.empty())
-          return fail(record, error);
-        break;
-      case PipelineStage::Smooth:
-        if (const std::string error = runLocal(Tag<LocalSmoothing<MeshType>>(), params.smooth);
-            !error.empty())
-          return fail(record, error);
-        break;
-      case PipelineStage::Polish:
-        if (const std::string error = runLocal(Tag<ValenceOptimization<MeshType>>(), params.polish);
-            !error.empty())
-          return fail(record, error);
-        break;
-      }
+      if (stage == PipelineStage::Segment || stage == PipelineStage::Rar) UpdateAdjacency(m);
+      if (const std::string error = RunStage(run, stage, last, record.summary, cleanReport); !error.empty())
+        return run.Fail(record, error);
       vcg::tri::Allocator<MeshType>::CompactEveryVector(m);
       record.seconds = std::chrono::duration<double>(Clock::now() - stageStart).count();
-      PendingReport report;
-      if (params.measureEachStage) {
-        typename MeshQuality<MeshType>::Params stageQuality = qualityParams;
-        const bool last = s + 1 == stageCount;
-        stageQuality.computeSelfIntersections = params.intersectionsEachStage || last;
-        const PendingReport& previous = result.stages.empty() ? inputReport : stageReports.back();
-        if (mayReuseReport && (previous.intersections || !stageQuality.computeSelfIntersections) &&
-            before.Matches(m)) {
-          report = previous;
-          report.intersections = stageQuality.computeSelfIntersections;
-        } else if (cleanReport) {
-          report = Ready(std::move(*cleanReport), stageQuality.computeSelfIntersections);
-        } else if (last || (result.targetEdgeLength <= 0 && params.targetEdgeLength <= 0)) {
-          // Read right away (the next stage takes its target edge length from it), or the end.
-          report =
-              Ready(MeshQuality<MeshType>::Compute(m, stageQuality), stageQuality.computeSelfIntersections);
-        } else {
-          report = MeasureLater(m, stageQuality);
-        }
-      }
-      say(std::string("stage ") + record.name + " done in " + std::to_string(record.seconds) + " s");
-      result.stages.push_back(record);
-      stageReports.push_back(report);
+      PendingReport report = MeasureStage(run, last, mayReuseReport, before, cleanReport);
+      run.Say(std::string("stage ") + record.name + " done in " + std::to_string(record.seconds) + " s");
+      run.result.stages.push_back(record);
+      run.stageReports.push_back(report);
     }
-    resolveReports();
+    run.ResolveReports();
     UpdateAdjacency(m);
-    if (params.measureEachStage && !result.stages.empty()) {
-      auto ran = [&](PipelineStage stage) {
-        return std::find(params.stages.begin(), params.stages.end(), stage) != params.stages.end();
-      };
-      targets.checkAngles = ran(PipelineStage::Small);
-      targets.minAngleDeg = params.small.minAngleDeg;
-      targets.maxAngleDeg = params.small.maxAngleDeg;
-      targets.checkValence = ran(PipelineStage::Valence);
-      result.verdict = OutputVerdict::Of(result.stages.back().after, targets);
-    }
-    result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    if (params.measureEachStage && !run.result.stages.empty()) run.result.verdict = Verdict(run);
+    run.result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (cb) cb(100, "done");
-    return result;
+    return std::move(run.result);
   }
 
 private:
@@ -580,26 +356,290 @@ private:
     }
   };
 
-  template <class T>
-  struct Tag {
-    using Type = T;
+  /// Whether the run includes the stage.
+  static bool Runs(const Params& params, PipelineStage stage) {
+    return std::find(params.stages.begin(), params.stages.end(), stage) != params.stages.end();
+  }
+
+  /// What the stages of one run share: the mesh, the result so far, the quality reports being
+  /// measured, the reference surface and the input's copy to restore on failure.
+  struct RunState {
+    MeshType& m;
+    const Params& params;
+    const std::function<void(const std::string&)>& log;
+    PipelineResult result;
+    typename MeshQuality<MeshType>::Params qualityParams;
+    PendingReport inputReport;
+    std::vector<PendingReport> stageReports; // one per record in result.stages
+    std::unique_ptr<ReferenceSurface<MeshType>> reference;
+    OutputTargets targets; // the causes are filled in by the clean stage
+    MeshType backup;
+
+    RunState(MeshType& mesh, const Params& p, const std::function<void(const std::string&)>& logger)
+        : m(mesh), params(p), log(logger) {}
+
+    void Say(const std::string& line) const {
+      if (log) log(line);
+    }
+
+    /// Checks the input and the memory it needs; when both pass, starts the input's report and
+    /// keeps the copy to restore. False (result says why) when the run is refused.
+    bool Admit() {
+      const InputCheck check = CheckTriangleMeshInput(m);
+      if (!check.ok) {
+        result.ok = false;
+        result.message = check.message;
+        return false;
+      }
+      if (std::string why = MemoryCheck(m, params); !why.empty()) {
+        result.ok = false;
+        result.refusedForMemory = true;
+        result.message = "refused: " + why + " (the mesh is unchanged)";
+        Say(result.message);
+        return false;
+      }
+      qualityParams.threads = params.threads;
+      // The reports are measured on a copy of the mesh (QualityCapture), each on a thread of its own
+      // and one core, while the next stage runs: the stages are serial for long stretches, so a
+      // report mostly takes the idle core instead of adding its time. The figures do not depend on
+      // the thread count. A report is waited for where it is read: the target edge length (taken
+      // from the last report) and the end. The last stage's report has nothing to overlap and runs
+      // on all threads.
+      inputReport = MeasureLater(m, qualityParams);
+      if (params.restoreOnFailure) vcg::tri::Append<MeshType, MeshType>::MeshCopy(backup, m);
+      return true;
+    }
+
+    void ResolveReports() {
+      if (inputReport.future.valid()) result.input = inputReport.Get();
+      for (std::size_t i = 0; i < stageReports.size() && i < result.stages.size(); ++i)
+        if (stageReports[i].future.valid()) result.stages[i].after = stageReports[i].Get();
+    }
+
+    /// Ends the run at a failed stage: the record says why, m is the input again when the copy
+    /// was kept.
+    PipelineResult Fail(PipelineStageRecord& record, const std::string& why) {
+      record.ok = false;
+      record.summary = why;
+      result.stages.push_back(record);
+      result.ok = false;
+      result.message = std::string("stage '") + record.name + "' failed: " + why;
+      ResolveReports();
+      if (params.restoreOnFailure) {
+        result.message += " (the mesh is unchanged)";
+        vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, backup);
+        UpdateAdjacency(m);
+      }
+      Say(result.message);
+      return result;
+    }
+
+    /// Builds the reference surface from m on first use. Returns the error.
+    std::string EnsureReference() {
+      if (reference) return {};
+      reference = std::make_unique<ReferenceSurface<MeshType>>();
+      std::string error;
+      // The lift recovers the curved surface the molecular input's vertices sample. Only a run
+      // that both resamples that input (CVT) and remeshes it to the final resolution (RAR) lifts.
+      // A run that starts later gets a remesh as its reference, whose vertices a lift would move
+      // again, stage after stage; a run that stopped after CVT would hand a lifted layer to the next
+      // run as its reference, which is no longer the input (the filters, one per stage, chain so).
+      typename ReferenceSurface<MeshType>::Params referenceParams = params.reference;
+      if (!Runs(params, PipelineStage::Cvt) || !Runs(params, PipelineStage::Rar))
+        referenceParams.phongAlpha = 0;
+      if (!reference->Build(m, referenceParams, &error)) return error;
+      return {};
+    }
+
+    /// Sets result.targetEdgeLength on first use: the given one, or the mean edge length of m.
+    void EnsureTargetLength() {
+      if (result.targetEdgeLength > 0) return;
+      if (params.targetEdgeLength > 0) {
+        result.targetEdgeLength = params.targetEdgeLength;
+        return;
+      }
+      // The last report already measured m as it is now (the input, or the previous stage's
+      // output): no second pass over the mesh.
+      ResolveReports();
+      if (result.stages.empty())
+        result.targetEdgeLength = result.input.meanEdgeLength;
+      else if (params.measureEachStage)
+        result.targetEdgeLength = result.stages.back().after.meanEdgeLength;
+      else
+        result.targetEdgeLength =
+            MeshQuality<MeshType>::Compute(m, NoIntersections(params.threads)).meanEdgeLength;
+    }
   };
 
-  /// The stages from valence on share one interface: Do(m, reference, params) -> Result{ok, message,
-  /// Summary()}, with targetEdgeLength, threads and seed in their Params. Returns the error.
-  template <class Stage>
-  static std::string RunLocalStage(MeshType& m, const ReferenceSurface<MeshType>& reference,
-                                   typename Stage::Params stageParams, const PipelineResult& result,
-                                   const Params& params, std::string& summary) {
-    if (stageParams.targetEdgeLength <= 0) stageParams.targetEdgeLength = result.targetEdgeLength;
-    stageParams.threads = params.threads;
-    stageParams.seed = params.seed;
-    const auto r = Stage::Do(m, reference, stageParams);
-    if (!r.ok) return r.message.empty() ? std::string("failed") : r.message;
-    summary = r.Summary();
+  /// Runs one stage on run.m; summary receives its summary. Returns the error ("" on success).
+  static std::string RunStage(RunState& run, PipelineStage stage, bool last, std::string& summary,
+                              std::optional<QualityReport>& cleanReport) {
+    const MeshType& m = run.m;
+    // A surface to remesh needs at least a tetrahedron's 4 faces; fewer (a lone triangle, a
+    // pair) are refused with a message rather than passed through unchanged. (Cleaning runs
+    // first, so an all-degenerate mesh is reported as such.)
+    if (stage != PipelineStage::Clean && m.fn < kMinFaces)
+      return "the mesh has only " + std::to_string(m.fn) + " face" + (m.fn == 1 ? "" : "s") +
+             ": too few to remesh (a closed surface has at least " + std::to_string(kMinFaces) + ")";
+    const Params& params = run.params;
+    switch (stage) {
+    case PipelineStage::Clean:
+      return RunClean(run, last, summary, cleanReport);
+    case PipelineStage::Cvt:
+      return RunCvt(run, summary);
+    case PipelineStage::Segment:
+      return RunSegment(run, summary);
+    case PipelineStage::Rar:
+      return RunRar(run, summary);
+    case PipelineStage::Valence:
+      return RunLocalStage<ValenceOptimization<MeshType>>(
+          run, params.valence, summary, [](const auto& r) { return ValenceOptimizationSummary(r); });
+    case PipelineStage::Small:
+      return RunLocalStage<SmallAngleElimination<MeshType>>(
+          run, params.small, summary, [](const auto& r) { return SmallAngleEliminationSummary(r); });
+    case PipelineStage::Obtuse:
+      return RunLocalStage<ObtuseReduction<MeshType>>(
+          run, params.obtuse, summary, [](const auto& r) { return ObtuseReductionSummary(r); });
+    case PipelineStage::Smooth:
+      return RunLocalStage<LocalSmoothing<MeshType>>(run, params.smooth, summary,
+                                                     [](const auto& r) { return LocalSmoothingSummary(r); });
+    case PipelineStage::Polish:
+      return RunLocalStage<ValenceOptimization<MeshType>>(
+          run, params.polish, summary, [](const auto& r) { return ValenceOptimizationSummary(r); });
+    }
     return {};
   }
 
+  static std::string RunClean(RunState& run, bool last, std::string& summary,
+                              std::optional<QualityReport>& cleanReport) {
+    const Params& params = run.params;
+    auto cleanParams = params.clean;
+    cleanParams.threads = params.threads;
+    // Its own before/after intersection counts would repeat the pipeline's input report and
+    // final report (two grid sweeps), unless it is the last stage or every stage is checked.
+    if (!params.intersectionsEachStage && !last) cleanParams.measureSelfIntersections = false;
+    const auto r = CleanRawMesh<MeshType>::Do(run.m, cleanParams);
+    if (!r.ok) return r.message;
+    summary = CleanRawMeshSummary(r);
+    run.targets.unrepairedTangles = r.unrepairedTangles;
+    run.targets.unfilledHoles = r.unfilledHoles;
+    run.targets.largestUnfilledHoleEdges = r.largestUnfilledHoleEdges;
+    run.targets.maxHoleEdges = cleanParams.maxHoleEdges;
+    // The cleaning measured its result already: that report is the stage's when it was taken
+    // the way the stage report would be.
+    if (cleanParams.degenerateAreaEpsilon == run.qualityParams.degenerateAreaEpsilon &&
+        cleanParams.measureSelfIntersections == (params.intersectionsEachStage || last))
+      cleanReport = r.reportAfter;
+    return {};
+  }
+
+  static std::string RunCvt(RunState& run, std::string& summary) {
+    run.EnsureTargetLength();
+    if (std::string error = run.EnsureReference(); !error.empty()) return error;
+    auto cvtParams = run.params.cvt;
+    if (cvtParams.targetEdgeLength <= 0 && cvtParams.targetVertexCount == 0)
+      cvtParams.targetEdgeLength = run.result.targetEdgeLength;
+    cvtParams.threads = run.params.threads;
+    const auto r = CvtInitialization<MeshType>::Do(run.m, *run.reference, cvtParams);
+    if (!r.ok) return r.message;
+    summary = r.message;
+    return {};
+  }
+
+  /// Segments run.m with the pipeline's seed into run.result's facePatch and patchCount.
+  static std::string Segment(RunState& run, SegmentationResult& r) {
+    auto segmentParams = run.params.segment;
+    segmentParams.seed = run.params.seed;
+    r = RandomSegmentation<MeshType>::Do(run.m, segmentParams);
+    if (!r.ok) return r.message;
+    run.result.patchCount = r.patchCount;
+    run.result.facePatch = std::move(r.facePatch);
+    return {};
+  }
+
+  static std::string RunSegment(RunState& run, std::string& summary) {
+    SegmentationResult r;
+    if (std::string error = Segment(run, r); !error.empty()) return error;
+    summary = SegmentationSummary(r);
+    return {};
+  }
+
+  static std::string RunRar(RunState& run, std::string& summary) {
+    run.EnsureTargetLength();
+    if (std::string error = run.EnsureReference(); !error.empty()) return error;
+    std::string segmentSummary;
+    if (run.result.facePatch.size() != run.m.face.size()) {
+      // No segmentation of this mesh yet: segment with the pipeline's seed first.
+      SegmentationResult seg;
+      if (std::string error = Segment(run, seg); !error.empty()) return error;
+      segmentSummary = "segmented first: " + std::to_string(seg.patchCount) + " patches\n";
+    }
+    auto rarParams = run.params.rar;
+    if (rarParams.rar.targetEdgeLength <= 0) rarParams.rar.targetEdgeLength = run.result.targetEdgeLength;
+    rarParams.threads = run.params.threads;
+    const auto r = PatchwiseRemeshing<MeshType>::Do(run.m, *run.reference, run.result.facePatch, rarParams);
+    if (!r.ok) return r.message;
+    summary = segmentSummary + PatchwiseRemeshingSummary(r);
+    // The faces changed: the segmentation no longer describes them.
+    run.result.facePatch.clear();
+    run.result.patchCount = 0;
+    return {};
+  }
+
+  /// The stages from valence on share one interface: Do(m, reference, params) -> Result{ok, message},
+  /// with targetEdgeLength, threads and seed in their Params. Returns the error.
+  template <class Stage, class Summarize>
+  static std::string RunLocalStage(RunState& run, typename Stage::Params stageParams, std::string& summary,
+                                   Summarize summarize) {
+    run.EnsureTargetLength();
+    if (std::string error = run.EnsureReference(); !error.empty()) return error;
+    if (stageParams.targetEdgeLength <= 0) stageParams.targetEdgeLength = run.result.targetEdgeLength;
+    stageParams.threads = run.params.threads;
+    stageParams.seed = run.params.seed;
+    const auto r = Stage::Do(run.m, *run.reference, stageParams);
+    if (!r.ok) return r.message.empty() ? std::string("failed") : r.message;
+    summary = summarize(r);
+    return {};
+  }
+
+  /// The report of the mesh after a stage: the previous one when the stage left the mesh as it
+  /// was, the cleaning's own, measured now when it is read right away, or measured while the next
+  /// stage runs. None when the stages are not measured.
+  static PendingReport MeasureStage(RunState& run, bool last, bool mayReuseReport,
+                                    const GeometrySnapshot& before,
+                                    std::optional<QualityReport>& cleanReport) {
+    PendingReport report;
+    const Params& params = run.params;
+    if (!params.measureEachStage) return report;
+    typename MeshQuality<MeshType>::Params stageQuality = run.qualityParams;
+    stageQuality.computeSelfIntersections = params.intersectionsEachStage || last;
+    const PendingReport& previous = run.result.stages.empty() ? run.inputReport : run.stageReports.back();
+    if (mayReuseReport && (previous.intersections || !stageQuality.computeSelfIntersections) &&
+        before.Matches(run.m)) {
+      report = previous;
+      report.intersections = stageQuality.computeSelfIntersections;
+    } else if (cleanReport) {
+      report = Ready(std::move(*cleanReport), stageQuality.computeSelfIntersections);
+    } else if (last || (run.result.targetEdgeLength <= 0 && params.targetEdgeLength <= 0)) {
+      // Read right away (the next stage takes its target edge length from it), or the end.
+      report =
+          Ready(MeshQuality<MeshType>::Compute(run.m, stageQuality), stageQuality.computeSelfIntersections);
+    } else {
+      report = MeasureLater(run.m, stageQuality);
+    }
+    return report;
+  }
+
+  /// What the output misses of the promises of the stages that ran (the last stage's report).
+  static OutputVerdict Verdict(const RunState& run) {
+    const Params& params = run.params;
+    OutputTargets targets = run.targets;
+    targets.checkAngles = Runs(params, PipelineStage::Small);
+    targets.minAngleDeg = params.small.minAngleDeg;
+    targets.maxAngleDeg = params.small.maxAngleDeg;
+    targets.checkValence = Runs(params, PipelineStage::Valence);
+    return OutputVerdict::Of(run.result.stages.back().after, targets);
+  }
   static typename MeshQuality<MeshType>::Params NoIntersections(int threads) {
     typename MeshQuality<MeshType>::Params p;
     p.computeSelfIntersections = false;

@@ -102,7 +102,6 @@ struct AdaptiveRemeshingStats {
   std::size_t refused = 0;   ///< refused local operations, all reasons
   double volumeOffset = 0;   ///< largest |normal offset| of RestoreVolume, in units of L0
   int iterations = 0;        ///< iterations done
-  double secondsSplit = 0, secondsCollapse = 0, secondsFlip = 0, secondsRelax = 0, secondsRepair = 0;
 
   void Add(const AdaptiveRemeshingStats& o) {
     splits += o.splits;
@@ -117,11 +116,6 @@ struct AdaptiveRemeshingStats {
     refused += o.refused;
     volumeOffset = std::max(volumeOffset, o.volumeOffset);
     iterations = std::max(iterations, o.iterations);
-    secondsSplit += o.secondsSplit;
-    secondsCollapse += o.secondsCollapse;
-    secondsFlip += o.secondsFlip;
-    secondsRelax += o.secondsRelax;
-    secondsRepair += o.secondsRepair;
   }
 };
 
@@ -235,7 +229,6 @@ public:
     std::size_t verticesIn = 0, facesIn = 0, verticesOut = 0, facesOut = 0;
     AdaptiveRemeshingStats stats;
     LocalOpsStats operations;
-    double seconds = 0;
   };
 
   /// Remeshes m in place, projecting onto `reference` (which m must lie on). m must be a
@@ -329,10 +322,6 @@ inline double AngleAt(const Point& apex, const Point& a, const Point& b) {
   const double nu = u.Norm(), nv = v.Norm();
   if (!(nu > 0) || !(nv > 0)) return 0.0;
   return std::acos(std::clamp((u * v) / (nu * nv), -1.0, 1.0)) * (180.0 / kPi);
-}
-
-inline double Seconds(std::chrono::steady_clock::time_point since) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
 } // namespace rar_detail
@@ -474,33 +463,22 @@ public:
   }
 
   AdaptiveRemeshingStats Run(int iterations) {
-    using Clock = std::chrono::steady_clock;
     const LocalOpsGuards saved = ops_.Guards();
     const std::size_t refusedBefore = ops_.Stats().Refused();
     for (int it = 0; it < iterations; ++it) {
-      auto t = Clock::now();
       ops_.SetGuards(params_.splitGuards);
       for (int pass = 0; pass < params_.maxSplitPasses; ++pass)
         if (SplitPass() == 0) break;
-      stats_.secondsSplit += rar_detail::Seconds(t);
-      t = Clock::now();
       ops_.SetGuards(params_.guards);
       CollapsePass();
-      stats_.secondsCollapse += rar_detail::Seconds(t);
-      t = Clock::now();
       for (int pass = 0; pass < params_.maxFlipPasses; ++pass)
         if (FlipPass() == 0) break;
-      stats_.secondsFlip += rar_detail::Seconds(t);
-      t = Clock::now();
       for (int step = 0; step < params_.relaxationSteps; ++step) Relax();
-      stats_.secondsRelax += rar_detail::Seconds(t);
       stats_.iterations = it + 1;
     }
-    auto t = Clock::now();
     ops_.SetGuards(params_.guards);
     for (int pass = 0; pass < params_.repairPasses; ++pass)
       if (RepairPass() == 0) break;
-    stats_.secondsRepair += rar_detail::Seconds(t);
     ops_.SetGuards(saved);
     stats_.refused = ops_.Stats().Refused() - refusedBefore;
     return stats_;
@@ -1383,12 +1361,10 @@ template <class MeshType>
 typename AdaptiveRemeshing<MeshType>::Result
 AdaptiveRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const Params& params,
                                 vcg::CallBackPos* cb) {
-  const auto start = std::chrono::steady_clock::now();
   Result result;
   auto finish = [&](bool ok, const std::string& message) {
     result.ok = ok;
     result.message = message;
-    result.seconds = rar_detail::Seconds(start);
     return result;
   };
   const InputCheck check = CheckTriangleMeshInput(m);

@@ -119,11 +119,6 @@ public:
     int iterations = 0;                ///< Lloyd iterations done
     double lastMeanMove = 0;           ///< mean Lloyd displacement of the last iteration, in units of L
     double volumeOffset = 0;           ///< largest |normal offset| of the volume restoration, in units of L
-    double seconds = 0;                ///< wall time of Do
-    double secondsSampling = 0;        ///< of which: sampling and vertex count matching
-    double secondsCentroids = 0;       ///< of which: cell centroids and their projection
-    double secondsMoves = 0;           ///< of which: applying and verifying the Lloyd moves
-    double secondsFlips = 0;           ///< of which: Delaunay flips
   };
 
   /// Remeshes m in place. m must be a 2-manifold, consistently oriented triangle mesh with
@@ -157,8 +152,52 @@ private:
     std::uint64_t key;  // Morton code of the midpoint (spatial order)
   };
 
+  /// A copy of a footpoint face's record, kept per vertex: the sites are visited in vertex order,
+  /// their footpoint faces at random, and a site keeps its footpoint over many iterations, so
+  /// reading the copy (in order) instead of the reference's record saves a cache miss per site and
+  /// iteration.
+  struct FootRecord {
+    int face = -1;
+    typename ReferenceSurface<MeshType>::FaceRecord record;
+  };
+  /// The buffers of the Lloyd iterations, kept from one iteration to the next.
+  struct Lloyd {
+    std::vector<typename ReferenceSurface<MeshType>::Scratch> scratch; ///< per thread
+    std::vector<std::uint32_t> movable;                                ///< the sites that may move
+    std::vector<Point> position;                                       ///< per vertex
+    std::vector<Point> target;                                         ///< per movable site
+    std::vector<int> targetFoot;                                       ///< per movable site
+    std::vector<double> moveLength;                                    ///< squared, per movable site
+    std::vector<double> cellArea;                                      ///< per vertex (x2)
+    std::vector<Point> cellWeighted;                                   ///< per vertex (x2)
+    std::vector<FootRecord> footRecord;                                ///< per vertex
+    std::vector<std::vector<std::array<std::uint32_t, 3>>>
+        ownerFaces;                                             ///< corners of the faces each owner sums
+    std::size_t ownerFacesTopology = 0, ownerFacesVertices = 0; ///< edit count and vertex count when made
+  };
+
   static Result Run(MeshType& m, const ReferenceSurface<MeshType>* external, const Params& params,
                     vcg::CallBackPos* cb);
+  /// Why m cannot be remeshed ("" when it can); prepares its adjacency for LocalRemeshingOps.
+  static std::string CheckInput(MeshType& m, const Params& params);
+  /// Params::targetEdgeLength, or m's mean edge length, or the one that gives
+  /// Params::targetVertexCount vertices on the reference.
+  static double TargetEdgeLength(const MeshType& m, const ReferenceSurface<MeshType>& reference,
+                                 const Params& params);
+  /// Splits and collapses toward edges of L (with Delaunay flips) until nothing changes.
+  static void Sample(Ops& ops, const Params& params, double L, int threads, std::vector<EdgeCandidate>& edges,
+                     vcg::CallBackPos* cb);
+  /// Splits or collapses toward the wanted vertex count, beyond the tolerance.
+  static void MatchVertexCount(Ops& ops, const MeshType& m, const Params& params, double L, double wanted,
+                               std::vector<EdgeCandidate>& edges);
+  /// Area and area-weighted centroid of every vertex's Voronoi cell.
+  static void CellCentroids(const MeshType& m, Ops& ops, int threads, Lloyd& s);
+  /// The sites that may move and where to: their cell centroids projected onto the reference.
+  static void MoveTargets(const MeshType& m, Ops& ops, const ReferenceSurface<MeshType>& reference,
+                          int threads, double minMove2, bool fullProjection, Lloyd& s);
+  /// Moves the sites (unverified); returns the sum of the move lengths.
+  static double ApplyMoves(Ops& ops, MeshType& m, double minMove2, const Lloyd& s, std::size_t& applied,
+                           std::size_t& rejected);
   static void Progress(vcg::CallBackPos* cb, double fraction, const char* what) {
     if (cb != nullptr) cb(int(std::clamp(fraction, 0.0, 1.0) * 100.0), what);
   }
@@ -460,28 +499,191 @@ double CvtInitialization<MeshType>::RestoreVolume(Ops& ops, const ReferenceSurfa
 }
 
 template <class MeshType>
+std::string CvtInitialization<MeshType>::CheckInput(MeshType& m, const Params& params) {
+  const InputCheck check = CheckTriangleMeshInput(m);
+  if (!check.ok) return check.message;
+  if (!vcg::tri::HasFFAdjacency(m) || !vcg::tri::HasVFAdjacency(m))
+    return "face-face and vertex-face adjacency must be enabled";
+  if (params.iterations < 0) return "negative iteration count";
+  std::string error;
+  if (!Ops::PrepareTopology(m, &error)) return error;
+  return {};
+}
+
+template <class MeshType>
+double CvtInitialization<MeshType>::TargetEdgeLength(const MeshType& m,
+                                                     const ReferenceSurface<MeshType>& reference,
+                                                     const Params& params) {
+  double L = params.targetEdgeLength > 0 ? params.targetEdgeLength : MeanEdgeLength(m);
+  if (params.targetVertexCount > 0)
+    L = std::sqrt(2.0 * reference.Area() / (std::sqrt(3.0) * double(params.targetVertexCount)));
+  return L;
+}
+
+template <class MeshType>
+void CvtInitialization<MeshType>::Sample(Ops& ops, const Params& params, double L, int threads,
+                                         std::vector<EdgeCandidate>& edges, vcg::CallBackPos* cb) {
+  const std::size_t unlimited = std::numeric_limits<std::size_t>::max();
+  const double splitLength = params.splitFactor * L, collapseLength = params.collapseFactor * L;
+  for (int pass = 0; pass < params.samplingPasses; ++pass) {
+    Progress(cb, 0.1 * pass / std::max(1, params.samplingPasses), "CVT: sampling");
+    std::size_t changed = SplitPass(ops, splitLength, unlimited, edges);
+    changed += CollapsePass(ops, collapseLength, splitLength, unlimited, edges);
+    if (params.delaunayFlips) DelaunayFlips(ops, threads, params.maxFlipsPerVertex);
+    if (changed == 0) break;
+  }
+}
+
+template <class MeshType>
+void CvtInitialization<MeshType>::MatchVertexCount(Ops& ops, const MeshType& m, const Params& params,
+                                                   double L, double wanted,
+                                                   std::vector<EdgeCandidate>& edges) {
+  const double splitLength = params.splitFactor * L;
+  const double have = double(LiveVertices(m));
+  const double tolerance = std::max(1.0, params.vertexCountTolerance * wanted);
+  if (std::fabs(have - wanted) <= tolerance) return;
+  if (have < wanted)
+    SplitPass(ops, L, std::size_t(wanted - have), edges);
+  else
+    CollapsePass(ops, L, splitLength, std::size_t(have - wanted), edges);
+}
+
+template <class MeshType>
+void CvtInitialization<MeshType>::CellCentroids(const MeshType& m, Ops& ops, int threads, Lloyd& s) {
+  // Cell centroids, accumulated face by face: each thread owns a range of vertices and sums,
+  // in face order, the faces with a corner it owns, so each vertex's sum runs in face order
+  // whatever the thread count. The owners' face lists (with the corners, compact) are made
+  // again only when the connectivity changed (splits, collapses and flips), not per iteration.
+  const std::size_t nv = m.vert.size();
+  s.position.resize(nv);
+  ParallelFor(nv, threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) s.position[i] = Ops::ToPoint(m.vert[i].cP());
+  });
+  const std::size_t owners = std::size_t(threads);
+  const std::size_t topologyNow = ops.Stats().splits + ops.Stats().collapses + ops.Stats().flips;
+  if (s.ownerFaces.empty() || topologyNow != s.ownerFacesTopology || s.ownerFacesVertices != nv) {
+    s.ownerFaces.resize(owners);
+    ParallelFor(
+        owners, threads,
+        [&](std::size_t begin, std::size_t end, int) {
+          for (std::size_t owner = begin; owner < end; ++owner) {
+            const std::uint32_t lo = std::uint32_t(nv * owner / owners),
+                                hi = std::uint32_t(nv * (owner + 1) / owners);
+            std::vector<std::array<std::uint32_t, 3>>& list = s.ownerFaces[owner];
+            list.clear();
+            for (const FaceType& f : m.face) {
+              if (f.IsD()) continue;
+              const std::array<std::uint32_t, 3> vi{std::uint32_t(vcg::tri::Index(m, f.cV(0))),
+                                                    std::uint32_t(vcg::tri::Index(m, f.cV(1))),
+                                                    std::uint32_t(vcg::tri::Index(m, f.cV(2)))};
+              if ((vi[0] >= lo && vi[0] < hi) || (vi[1] >= lo && vi[1] < hi) || (vi[2] >= lo && vi[2] < hi))
+                list.push_back(vi);
+            }
+          }
+        },
+        1);
+    s.ownerFacesTopology = topologyNow;
+    s.ownerFacesVertices = nv;
+  }
+  s.cellArea.assign(nv, 0.0);
+  s.cellWeighted.assign(nv, Point(0, 0, 0));
+  ParallelFor(
+      owners, threads,
+      [&](std::size_t begin, std::size_t end, int) {
+        for (std::size_t owner = begin; owner < end; ++owner) {
+          const std::uint32_t lo = std::uint32_t(nv * owner / owners),
+                              hi = std::uint32_t(nv * (owner + 1) / owners);
+          for (const std::array<std::uint32_t, 3>& vi : s.ownerFaces[owner]) {
+            std::array<double, 3> area;
+            std::array<Point, 3> weighted;
+            FacePieces({s.position[vi[0]], s.position[vi[1]], s.position[vi[2]]}, area, weighted);
+            for (int k = 0; k < 3; ++k) {
+              if (vi[k] < lo || vi[k] >= hi) continue;
+              s.cellArea[vi[k]] += area[k];
+              s.cellWeighted[vi[k]] += weighted[k];
+            }
+          }
+        }
+      },
+      1);
+}
+
+template <class MeshType>
+void CvtInitialization<MeshType>::MoveTargets(const MeshType& m, Ops& ops,
+                                              const ReferenceSurface<MeshType>& reference, int threads,
+                                              double minMove2, bool fullProjection, Lloyd& s) {
+  const std::size_t nv = m.vert.size();
+  s.movable.clear();
+  for (std::size_t i = 0; i < nv; ++i) {
+    const VertexType& v = m.vert[i];
+    if (v.IsD() || v.cVFp() == nullptr || !(s.cellArea[i] > 0) || ops.IsLocked(v) || ops.IsBoundaryVertex(v))
+      continue;
+    s.movable.push_back(std::uint32_t(i));
+  }
+  s.footRecord.resize(nv);
+  s.target.resize(s.movable.size());
+  s.targetFoot.resize(s.movable.size());
+  s.moveLength.resize(s.movable.size());
+  ParallelFor(s.movable.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::uint32_t vi = s.movable[i];
+      const Point c = s.cellWeighted[vi] / s.cellArea[vi];
+      // Converged (the centroid is within minMove of the site along the input's tangent
+      // plane; its offset along the normal is the cell's curvature): no projection, no move.
+      const int foot = ops.Footpoint(m.vert[vi]);
+      FootRecord& footCopy = s.footRecord[vi];
+      if (foot >= 0 && footCopy.face != foot) {
+        footCopy.face = foot;
+        footCopy.record = reference.Record(foot);
+      }
+      Point shift = c - s.position[vi];
+      if (foot >= 0) shift -= footCopy.record.n * (shift * footCopy.record.n);
+      if (!(shift.SquaredNorm() > minMove2)) {
+        s.target[i] = s.position[vi];
+        s.targetFoot[i] = -1;
+        s.moveLength[i] = 0.0;
+        continue;
+      }
+      SurfaceProjection proj;
+      if (!fullProjection && foot >= 0)
+        proj = ReferenceSurface<MeshType>::ProjectInsideFace(c, footCopy.record, foot);
+      if (!proj.ok()) proj = reference.Project(c, foot, s.scratch[t], /*lift=*/fullProjection);
+      s.target[i] = proj.point;
+      s.targetFoot[i] = proj.face;
+      s.moveLength[i] = proj.ok() ? (proj.point - s.position[vi]).SquaredNorm() : 0.0;
+    }
+  });
+}
+
+template <class MeshType>
+double CvtInitialization<MeshType>::ApplyMoves(Ops& ops, MeshType& m, double minMove2, const Lloyd& s,
+                                               std::size_t& applied, std::size_t& rejected) {
+  double moveSum = 0;
+  for (std::size_t i = 0; i < s.movable.size(); ++i) {
+    if (!(s.moveLength[i] > minMove2) || s.targetFoot[i] < 0) continue;
+    moveSum += std::sqrt(s.moveLength[i]);
+    if (ops.MoveVertexUnchecked(&m.vert[s.movable[i]], s.target[i], s.targetFoot[i]))
+      ++applied;
+    else
+      ++rejected;
+  }
+  return moveSum;
+}
+
+template <class MeshType>
 typename CvtInitialization<MeshType>::Result
 CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* external,
                                  const Params& params, vcg::CallBackPos* cb) {
-  const auto start = std::chrono::steady_clock::now();
   Result result;
   auto finish = [&](bool ok, const std::string& message) {
     result.ok = ok;
     result.message = message;
-    result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   };
 
   // --- Preconditions (nothing is touched before they pass) ------------------------------------
-  const InputCheck check = CheckTriangleMeshInput(m);
-  if (!check.ok) return finish(false, "CVT initialization refused: " + check.message);
-  if (!vcg::tri::HasFFAdjacency(m) || !vcg::tri::HasVFAdjacency(m))
-    return finish(false, "CVT initialization refused: face-face and vertex-face adjacency must be enabled");
-  if (params.iterations < 0) return finish(false, "CVT initialization refused: negative iteration count");
-  {
-    std::string error;
-    if (!Ops::PrepareTopology(m, &error)) return finish(false, "CVT initialization refused: " + error);
-  }
+  if (const std::string error = CheckInput(m, params); !error.empty())
+    return finish(false, "CVT initialization refused: " + error);
   result.verticesIn = std::size_t(m.vn);
   result.facesIn = std::size_t(m.fn);
 
@@ -495,9 +697,7 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
     reference = own.get();
   }
 
-  double L = params.targetEdgeLength > 0 ? params.targetEdgeLength : MeanEdgeLength(m);
-  if (params.targetVertexCount > 0)
-    L = std::sqrt(2.0 * reference->Area() / (std::sqrt(3.0) * double(params.targetVertexCount)));
+  const double L = TargetEdgeLength(m, *reference, params);
   if (!(L > 0) || !std::isfinite(L))
     return finish(false, "CVT initialization refused: no valid target edge length");
   result.targetEdgeLength = L;
@@ -511,175 +711,29 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   }
 
   // --- 1. Sampling ------------------------------------------------------------------------------
-  auto now = [] { return std::chrono::steady_clock::now(); };
-  auto since = [](std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-  };
-  const double setupSeconds = since(start);
-  auto phase = now();
   const int threads = ResolveThreadCount(params.threads);
   std::vector<EdgeCandidate> edges;
-  const std::size_t unlimited = std::numeric_limits<std::size_t>::max();
-  const double splitLength = params.splitFactor * L, collapseLength = params.collapseFactor * L;
-  for (int pass = 0; pass < params.samplingPasses; ++pass) {
-    Progress(cb, 0.1 * pass / std::max(1, params.samplingPasses), "CVT: sampling");
-    std::size_t changed = SplitPass(ops, splitLength, unlimited, edges);
-    changed += CollapsePass(ops, collapseLength, splitLength, unlimited, edges);
-    if (params.delaunayFlips) DelaunayFlips(ops, threads, params.maxFlipsPerVertex);
-    if (changed == 0) break;
-  }
-  result.secondsSampling += since(phase);
+  Sample(ops, params, L, threads, edges, cb);
   // Vertex count of a uniform CVT with edge L: each vertex owns a hexagon of area sqrt(3)/2 L^2.
   const double wanted = 2.0 * reference->Area() / (std::sqrt(3.0) * L * L);
-  auto matchCount = [&]() {
-    const double have = double(LiveVertices(m));
-    const double tolerance = std::max(1.0, params.vertexCountTolerance * wanted);
-    if (std::fabs(have - wanted) <= tolerance) return;
-    if (have < wanted)
-      SplitPass(ops, L, std::size_t(wanted - have), edges);
-    else
-      CollapsePass(ops, L, splitLength, std::size_t(have - wanted), edges);
-  };
 
   // --- 2. Lloyd iterations ----------------------------------------------------------------------
-  std::vector<typename ReferenceSurface<MeshType>::Scratch> scratch(threads);
-  std::vector<std::uint32_t> movable;
-  std::vector<Point> position, target;
-  std::vector<int> targetFoot;
-  std::vector<double> moveLength, cellArea;
-  std::vector<Point> cellWeighted;
-  // Per vertex, a copy of its footpoint face's record: the sites are visited in vertex order, their
-  // footpoint faces at random, and a site keeps its footpoint over many iterations, so reading the
-  // copy (in order) instead of the reference's record saves a cache miss per site and iteration.
-  struct FootRecord {
-    int face = -1;
-    typename ReferenceSurface<MeshType>::FaceRecord record;
-  };
-  std::vector<FootRecord> footRecord;
-  std::vector<std::vector<std::array<std::uint32_t, 3>>> ownerFaces; // corners of the faces each owner sums
-  std::size_t ownerFacesTopology = 0, ownerFacesVertices = 0;        // edit count and vertex count when made
+  Lloyd lloyd;
+  lloyd.scratch.resize(std::size_t(threads));
   const double minMove2 = params.minMoveFactor * L * params.minMoveFactor * L;
   std::size_t applied = 0, rejected = 0;
   for (int it = 0; it < params.iterations; ++it) {
     Progress(cb, 0.1 + 0.9 * it / std::max(1, params.iterations), "CVT: Lloyd relaxation");
-    phase = now();
-    if (params.matchVertexCount && it < std::max(1, params.iterations / 3)) matchCount();
-    result.secondsSampling += since(phase);
-    phase = now();
+    if (params.matchVertexCount && it < std::max(1, params.iterations / 3))
+      MatchVertexCount(ops, m, params, L, wanted, edges);
     const bool fullProjection = it >= params.iterations - params.fullProjectionIterations;
-
-    // Cell centroids, accumulated face by face: each thread owns a range of vertices and sums,
-    // in face order, the faces with a corner it owns, so each vertex's sum runs in face order
-    // whatever the thread count. The owners' face lists (with the corners, compact) are made
-    // again only when the connectivity changed (splits, collapses and flips), not per iteration.
-    const std::size_t nv = m.vert.size();
-    position.resize(nv);
-    ParallelFor(nv, threads, [&](std::size_t begin, std::size_t end, int) {
-      for (std::size_t i = begin; i < end; ++i) position[i] = Ops::ToPoint(m.vert[i].cP());
-    });
-    const std::size_t owners = std::size_t(threads);
-    const std::size_t topologyNow = ops.Stats().splits + ops.Stats().collapses + ops.Stats().flips;
-    if (ownerFaces.empty() || topologyNow != ownerFacesTopology || ownerFacesVertices != nv) {
-      ownerFaces.resize(owners);
-      ParallelFor(
-          owners, threads,
-          [&](std::size_t begin, std::size_t end, int) {
-            for (std::size_t owner = begin; owner < end; ++owner) {
-              const std::uint32_t lo = std::uint32_t(nv * owner / owners),
-                                  hi = std::uint32_t(nv * (owner + 1) / owners);
-              std::vector<std::array<std::uint32_t, 3>>& list = ownerFaces[owner];
-              list.clear();
-              for (const FaceType& f : m.face) {
-                if (f.IsD()) continue;
-                const std::array<std::uint32_t, 3> vi{std::uint32_t(vcg::tri::Index(m, f.cV(0))),
-                                                      std::uint32_t(vcg::tri::Index(m, f.cV(1))),
-                                                      std::uint32_t(vcg::tri::Index(m, f.cV(2)))};
-                if ((vi[0] >= lo && vi[0] < hi) || (vi[1] >= lo && vi[1] < hi) || (vi[2] >= lo && vi[2] < hi))
-                  list.push_back(vi);
-              }
-            }
-          },
-          1);
-      ownerFacesTopology = topologyNow;
-      ownerFacesVertices = nv;
-    }
-    cellArea.assign(nv, 0.0);
-    cellWeighted.assign(nv, Point(0, 0, 0));
-    ParallelFor(
-        owners, threads,
-        [&](std::size_t begin, std::size_t end, int) {
-          for (std::size_t owner = begin; owner < end; ++owner) {
-            const std::uint32_t lo = std::uint32_t(nv * owner / owners),
-                                hi = std::uint32_t(nv * (owner + 1) / owners);
-            for (const std::array<std::uint32_t, 3>& vi : ownerFaces[owner]) {
-              std::array<double, 3> area;
-              std::array<Point, 3> weighted;
-              FacePieces({position[vi[0]], position[vi[1]], position[vi[2]]}, area, weighted);
-              for (int k = 0; k < 3; ++k) {
-                if (vi[k] < lo || vi[k] >= hi) continue;
-                cellArea[vi[k]] += area[k];
-                cellWeighted[vi[k]] += weighted[k];
-              }
-            }
-          }
-        },
-        1);
-
-    movable.clear();
-    for (std::size_t i = 0; i < nv; ++i) {
-      const VertexType& v = m.vert[i];
-      if (v.IsD() || v.cVFp() == nullptr || !(cellArea[i] > 0) || ops.IsLocked(v) || ops.IsBoundaryVertex(v))
-        continue;
-      movable.push_back(std::uint32_t(i));
-    }
-    footRecord.resize(nv);
-    target.resize(movable.size());
-    targetFoot.resize(movable.size());
-    moveLength.resize(movable.size());
-    ParallelFor(movable.size(), threads, [&](std::size_t begin, std::size_t end, int t) {
-      for (std::size_t i = begin; i < end; ++i) {
-        const std::uint32_t vi = movable[i];
-        const Point c = cellWeighted[vi] / cellArea[vi];
-        // Converged (the centroid is within minMove of the site along the input's tangent
-        // plane; its offset along the normal is the cell's curvature): no projection, no move.
-        const int foot = ops.Footpoint(m.vert[vi]);
-        FootRecord& footCopy = footRecord[vi];
-        if (foot >= 0 && footCopy.face != foot) {
-          footCopy.face = foot;
-          footCopy.record = reference->Record(foot);
-        }
-        Point shift = c - position[vi];
-        if (foot >= 0) shift -= footCopy.record.n * (shift * footCopy.record.n);
-        if (!(shift.SquaredNorm() > minMove2)) {
-          target[i] = position[vi];
-          targetFoot[i] = -1;
-          moveLength[i] = 0.0;
-          continue;
-        }
-        SurfaceProjection proj;
-        if (!fullProjection && foot >= 0)
-          proj = ReferenceSurface<MeshType>::ProjectInsideFace(c, footCopy.record, foot);
-        if (!proj.ok()) proj = reference->Project(c, foot, scratch[t], /*lift=*/fullProjection);
-        target[i] = proj.point;
-        targetFoot[i] = proj.face;
-        moveLength[i] = proj.ok() ? (proj.point - position[vi]).SquaredNorm() : 0.0;
-      }
-    });
-    result.secondsCentroids += since(phase);
-    phase = now();
+    CellCentroids(m, ops, threads, lloyd);
+    MoveTargets(m, ops, *reference, threads, minMove2, fullProjection, lloyd);
 
     // Converged sites (and failed projections) stay; the others move, verified every few
     // iterations (a failing vertex goes back to its last verified position).
-    double moveSum = 0;
-    for (std::size_t i = 0; i < movable.size(); ++i) {
-      if (!(moveLength[i] > minMove2) || targetFoot[i] < 0) continue;
-      moveSum += std::sqrt(moveLength[i]);
-      if (ops.MoveVertexUnchecked(&m.vert[movable[i]], target[i], targetFoot[i]))
-        ++applied;
-      else
-        ++rejected;
-    }
-    result.lastMeanMove = movable.empty() ? 0.0 : moveSum / double(movable.size()) / L;
+    const double moveSum = ApplyMoves(ops, m, minMove2, lloyd, applied, rejected);
+    result.lastMeanMove = lloyd.movable.empty() ? 0.0 : moveSum / double(lloyd.movable.size()) / L;
     const bool last = it + 1 == params.iterations;
     const bool verify = last || it < 2 || params.verifyEvery <= 1 || (it + 1) % params.verifyEvery == 0;
     if (verify) {
@@ -687,18 +741,13 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
       rejected += checked.rejected;
       ++result.verifications;
     }
-    result.secondsMoves += since(phase);
-    phase = now();
     if (verify && params.delaunayFlips) DelaunayFlips(ops, threads, params.maxFlipsPerVertex);
-    result.secondsFlips += since(phase);
     result.iterations = it + 1;
   }
-  if (params.matchVertexCount && params.iterations == 0) matchCount();
+  if (params.matchVertexCount && params.iterations == 0) MatchVertexCount(ops, m, params, L, wanted, edges);
 
-  phase = now();
   if (params.preserveVolume)
     result.volumeOffset = RestoreVolume(ops, *reference, params.maxVolumeOffset * L, threads) / L;
-  const double volumeSeconds = since(phase);
 
   const LocalOpsStats& stats = ops.Stats();
   result.splits = stats.splits;
@@ -714,13 +763,7 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   Progress(cb, 1.0, "CVT: done");
   return finish(true, "CVT initialization: " + std::to_string(result.verticesIn) + " -> " +
                           std::to_string(result.verticesOut) + " vertices, L = " + std::to_string(L) + ", " +
-                          std::to_string(result.iterations) + " Lloyd iterations; seconds: setup " +
-                          detail::FormatNumber(setupSeconds, 2) + ", sampling " +
-                          detail::FormatNumber(result.secondsSampling, 2) + ", centroids " +
-                          detail::FormatNumber(result.secondsCentroids, 2) + ", moves " +
-                          detail::FormatNumber(result.secondsMoves, 2) + ", flips " +
-                          detail::FormatNumber(result.secondsFlips, 2) + ", volume " +
-                          detail::FormatNumber(volumeSeconds, 2));
+                          std::to_string(result.iterations) + " Lloyd iterations");
 }
 
 } // namespace molremesh

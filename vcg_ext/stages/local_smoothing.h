@@ -93,25 +93,14 @@ public:
     std::size_t moves = 0, flips = 0, collapses = 0, splits = 0;                         ///< applied edits
     std::size_t refused = 0; ///< edits refused by the guards of LocalRemeshingOps
     int rounds = 0;
-    double seconds = 0;
-    std::string Summary() const {
-      return message + "\nbad faces: " + std::to_string(badBefore) + " -> " + std::to_string(badAfter) +
-             " (small " + std::to_string(smallAfter) + ", obtuse " + std::to_string(obtuseAfter) + ")" +
-             "\nsmallest angle: " + std::to_string(angleMinBefore) + " -> " + std::to_string(angleMinAfter) +
-             "\nlargest angle: " + std::to_string(angleMaxBefore) + " -> " + std::to_string(angleMaxAfter) +
-             "\nmoves: " + std::to_string(moves) + "\nflips: " + std::to_string(flips) +
-             "\ncollapses: " + std::to_string(collapses) + "\nsplits: " + std::to_string(splits) +
-             "\nrefused: " + std::to_string(refused) + "\nrounds: " + std::to_string(rounds) + "\n";
-    }
   };
 
   /// Runs the stage on m (a 2-manifold, consistently oriented mesh with FF and VF adjacency
   /// enabled, lying on reference). On failure m is left untouched (FF/VF adjacency recomputed)
   /// and Result::message says why.
   static Result Do(MeshType& m, const Reference& reference, const Params& params) {
-    const auto start = std::chrono::steady_clock::now();
     Result r;
-    auto finish = [&](bool ok, const std::string& message) { return FinishStage(r, ok, message, start); };
+    auto finish = [&](bool ok, const std::string& message) { return FinishStage(r, ok, message); };
     const std::string refused = "local smoothing refused: ";
     const InputCheck check = CheckTriangleMeshInput(m);
     if (!check.ok) return finish(false, refused + check.message);

@@ -33,14 +33,12 @@ inline LocalOpsGuards GuardsWithAngleBounds(double minAngleDeg, double maxAngleD
   return g;
 }
 
-/// Sets the fields every local stage's Result has (ok, message, seconds since start) and returns
+/// Sets the fields every local stage's Result has (ok, message) and returns
 /// a copy of it: the stages return through this on success and on every refusal.
 template <class Result>
-Result FinishStage(Result& r, bool ok, const std::string& message,
-                   std::chrono::steady_clock::time_point start) {
+Result FinishStage(Result& r, bool ok, const std::string& message) {
   r.ok = ok;
   r.message = message;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return r;
 }
 

@@ -102,24 +102,14 @@ public:
     std::size_t moves = 0, insertions = 0;         ///< applied translations and pentagon insertions
     std::size_t refused = 0;                       ///< edits refused by the guards of LocalRemeshingOps
     int rounds = 0;                                ///< translation rounds run, all thresholds
-    double seconds = 0;
-    std::string Summary() const {
-      return message + "\nobtuse faces: " + std::to_string(obtuseBefore) + " -> " +
-             std::to_string(obtuseAfter) + "\nlargest angle: " + std::to_string(angleMaxBefore) + " -> " +
-             std::to_string(angleMaxAfter) + "\nsmallest angle: " + std::to_string(angleMinBefore) + " -> " +
-             std::to_string(angleMinAfter) + "\nmoves: " + std::to_string(moves) +
-             "\npentagon insertions: " + std::to_string(insertions) +
-             "\nrefused: " + std::to_string(refused) + "\nrounds: " + std::to_string(rounds) + "\n";
-    }
   };
 
   /// Runs the stage on m (a 2-manifold, consistently oriented mesh with FF and VF adjacency
   /// enabled, lying on reference). On failure m is left untouched (FF/VF adjacency recomputed)
   /// and Result::message says why.
   static Result Do(MeshType& m, const Reference& reference, const Params& params) {
-    const auto start = std::chrono::steady_clock::now();
     Result r;
-    auto finish = [&](bool ok, const std::string& message) { return FinishStage(r, ok, message, start); };
+    auto finish = [&](bool ok, const std::string& message) { return FinishStage(r, ok, message); };
     const std::string refused = "obtuse reduction refused: ";
     const InputCheck check = CheckTriangleMeshInput(m);
     if (!check.ok) return finish(false, refused + check.message);

@@ -108,16 +108,6 @@ public:
     std::size_t verticesIn = 0, facesIn = 0, verticesOut = 0, facesOut = 0;
     AdaptiveRemeshingStats patchStats; ///< summed over the patches
     AdaptiveRemeshingStats stripStats;
-    double seconds = 0, secondsSizing = 0, secondsPatches = 0, secondsStitch = 0, secondsCheck = 0,
-           secondsStrip = 0;
-    double secondsStripInit = 0,
-           secondsFinalize = 0; ///< of the strip pass: LocalRemeshingOps::Init, Finalize
-    double secondsPatchSetup =
-        0; ///< of the patches' time: extraction and LocalRemeshingOps::Init, summed over threads
-    double secondsPatchInit = 0; ///< of which LocalRemeshingOps::Init
-
-    /// One "name: value" line per figure, for the pipeline's stage summary.
-    std::string Summary() const;
   };
 
   /// Remeshes m in place. facePatch (indexed like m.face, -1 for deleted faces) gives the patch
@@ -154,8 +144,6 @@ private:
     std::vector<std::array<int, 3>> faces; ///< corners: >= 0 index in verts, < 0 border id -(id + 1)
     std::size_t haloFaces = 0;
     AdaptiveRemeshingStats stats;
-    double secondsSetup = 0; ///< extraction and LocalRemeshingOps::Init
-    double secondsInit = 0;  ///< of which LocalRemeshingOps::Init
   };
   struct Context {
     const Reference* reference = nullptr;
@@ -223,9 +211,46 @@ private:
   static void BuildCellIndex(const Global& g, double cell, int threads, CellIndex& index);
   static void IndexPatches(Global& g, int patchCount);
   static PatchResult OriginalPatch(const Global& g, int p);
+  /// A patch and its halo as a small mesh: vertices by global index, faces with local corners.
+  struct LocalPatch {
+    std::vector<std::uint32_t> globalOf;   ///< per local vertex: patch ones, halo ones, fan copies
+    std::vector<std::array<int, 3>> faces; ///< patch faces, then halo faces
+    std::size_t nPatchVerts = 0, nPatchFaces = 0;
+  };
+  /// Remeshes patch p in a copy with haloCells cells of obstacle faces around it; the patch's
+  /// own faces when that fails.
   static PatchResult RemeshPatch(const Global& g, const CellIndex& index, const Context& ctx, int p,
                                  int haloCells);
+  /// The cells where patch p's vertices may go (allowed) and the faces of other patches around it.
+  static std::vector<std::uint32_t> PatchRegion(const Global& g, const CellIndex& index, int p, int haloCells,
+                                                std::vector<std::uint64_t>& allowed);
+  static void BuildLocalFaces(const Global& g, const std::vector<std::uint32_t>& patchFaces,
+                              const std::vector<std::uint32_t>& haloFaces, LocalPatch& lp);
+  /// Halo vertices whose faces form several fans (at the halo's rim) get one copy per fan.
+  static void SplitHaloFans(LocalPatch& lp);
+  /// The remeshed patch's vertices and faces into r; false if a face uses a halo vertex.
+  static bool ReadBack(const MeshType& local, const Global& g, const Context& ctx, const LocalPatch& lp,
+                       const std::vector<double>& sizing, PatchResult& r);
   static void Stitch(const Context& ctx, const std::vector<PatchResult>& results, Global& out);
+  /// Why m and facePatch cannot be remeshed ("" when they can); the patch count and L0.
+  static std::string CheckInput(MeshType& m, const std::vector<int>& facePatch, const Params& params,
+                                int& patchCount, double& L0);
+  /// Step 1: the copy g0 of m with its segmentation, sizing field and patch lists; the border
+  /// vertices into ctx.
+  static void PrepareSizing(MeshType& m, const std::vector<int>& facePatch, int patchCount,
+                            const Params& params, const typename Rar::Params& rarParams,
+                            const Reference& reference, double L0, int threads, Global& g0, Context& ctx,
+                            Result& result);
+  /// Step 2: every patch remeshed on its own (borders locked), in parallel; the patches as they
+  /// were into original.
+  static void RemeshPatchesInParallel(Global& g0, Context& ctx, const Reference& reference, int patchCount,
+                                      int threads, std::vector<PatchResult>& original,
+                                      std::vector<PatchResult>& results);
+  /// Steps 3 and 4: the patches stitched into g; patches whose faces meet another's are redone
+  /// once, then left as they were.
+  static void StitchAndVerify(const Context& ctx, std::vector<PatchResult>& results,
+                              const std::vector<PatchResult>& original, int patchCount, double L0,
+                              int threads, Global& g, Result& result);
   /// Empties m and frees its elements' memory (Clear keeps the vectors' capacity).
   static void ReleaseMesh(MeshType& m) {
     m.Clear();
@@ -242,36 +267,6 @@ private:
 // ------------------------------------------------------------------------------------------------
 // Implementation
 // ------------------------------------------------------------------------------------------------
-
-template <class MeshType>
-std::string PatchwiseRemeshing<MeshType>::Result::Summary() const {
-  std::ostringstream s;
-  s << "patches: " << patches << "\n"
-    << "border vertices: " << borderVertices << "\n"
-    << "strip vertices: " << stripVertices << "\n"
-    << "halo faces: " << haloFaces << "\n"
-    << "sizing (x L0): " << minSizing << " .. " << maxSizing << "\n"
-    << "splits: " << patchStats.splits + stripStats.splits << "\n"
-    << "collapses: " << patchStats.collapses + stripStats.collapses << "\n"
-    << "flips: " << patchStats.flips + stripStats.flips << "\n"
-    << "relaxation moves: " << patchStats.movesApplied + stripStats.movesApplied << "\n"
-    << "repair moves/flips/collapses: " << patchStats.repairMoves + stripStats.repairMoves << "/"
-    << patchStats.repairFlips + stripStats.repairFlips << "/"
-    << patchStats.repairCollapses + stripStats.repairCollapses << "\n"
-    << "snapped onto far input vertices: " << patchStats.snapMoves + stripStats.snapMoves << "\n"
-    << "volume offset (x L0): " << std::max(patchStats.volumeOffset, stripStats.volumeOffset) << "\n"
-    << "cross-patch conflicts: " << conflictPairs << "\n"
-    << "patches redone: " << patchesRedone << "\n"
-    << "patches frozen: " << patchesFrozen << "\n"
-    << "patches failed: " << patchesFailed << (firstFailure.empty() ? "" : " (" + firstFailure + ")") << "\n"
-    << "vertices: " << verticesIn << " -> " << verticesOut << "\n"
-    << "faces: " << facesIn << " -> " << facesOut << "\n"
-    << "seconds patch setup / init (all threads): " << secondsPatchSetup << " / " << secondsPatchInit << "\n"
-    << "seconds strip init / finalize: " << secondsStripInit << " / " << secondsFinalize << "\n"
-    << "seconds sizing/patches/stitch/check/strip: " << secondsSizing << "/" << secondsPatches << "/"
-    << secondsStitch << "/" << secondsCheck << "/" << secondsStrip << "\n";
-  return s.str();
-}
 
 template <class MeshType>
 typename PatchwiseRemeshing<MeshType>::InputTopology
@@ -418,22 +413,11 @@ PatchwiseRemeshing<MeshType>::OriginalPatch(const Global& g, int p) {
 }
 
 template <class MeshType>
-typename PatchwiseRemeshing<MeshType>::PatchResult
-PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& index, const Context& ctx, int p,
-                                          int haloCells) {
+std::vector<std::uint32_t> PatchwiseRemeshing<MeshType>::PatchRegion(const Global& g, const CellIndex& index,
+                                                                     int p, int haloCells,
+                                                                     std::vector<std::uint64_t>& allowed) {
   const std::vector<std::uint32_t>& patchFaces = g.facesOfPatch[std::size_t(p)];
-  PatchResult fallback;
-  auto fail = [&](const std::string& why) {
-    fallback = OriginalPatch(g, p);
-    fallback.failed = true;
-    fallback.error = why;
-    return fallback;
-  };
-  if (patchFaces.empty()) return OriginalPatch(g, p);
-  const auto setupStart = std::chrono::steady_clock::now();
-
-  // --- Region: the patch's cells, dilated once (where vertices may go) and haloCells times. ---
-  std::vector<std::uint64_t> cells, allowed, halo;
+  std::vector<std::uint64_t> cells, halo;
   for (const std::uint32_t fi : patchFaces) FaceCells(index, g.mesh.face[fi], cells);
   std::sort(cells.begin(), cells.end());
   cells.erase(std::unique(cells.begin(), cells.end()), cells.end());
@@ -463,22 +447,29 @@ PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& inde
     std::sort(haloFaces.begin(), haloFaces.end());
     haloFaces.erase(std::unique(haloFaces.begin(), haloFaces.end()), haloFaces.end());
   }
+  return haloFaces;
+}
 
-  // --- Local mesh: patch vertices (increasing global index), then halo vertices. ---
+template <class MeshType>
+void PatchwiseRemeshing<MeshType>::BuildLocalFaces(const Global& g,
+                                                   const std::vector<std::uint32_t>& patchFaces,
+                                                   const std::vector<std::uint32_t>& haloFaces,
+                                                   LocalPatch& lp) {
+  std::vector<std::uint32_t>& globalOf = lp.globalOf;
+  std::vector<std::array<int, 3>>& faces = lp.faces;
   std::vector<std::uint32_t> patchVerts;
   for (const std::uint32_t fi : patchFaces)
     for (int k = 0; k < 3; ++k)
       patchVerts.push_back(std::uint32_t(vcg::tri::Index(g.mesh, g.mesh.face[fi].cV(k))));
   std::sort(patchVerts.begin(), patchVerts.end());
   patchVerts.erase(std::unique(patchVerts.begin(), patchVerts.end()), patchVerts.end());
-  std::vector<std::uint32_t> globalOf(patchVerts.begin(), patchVerts.end());
+  globalOf.assign(patchVerts.begin(), patchVerts.end());
   // Map global -> local with a sorted lookup for patch vertices and a small table for the halo.
   auto patchLocal = [&](std::uint32_t gv) -> int {
     const auto it = std::lower_bound(patchVerts.begin(), patchVerts.end(), gv);
     return (it != patchVerts.end() && *it == gv) ? int(it - patchVerts.begin()) : -1;
   };
   std::vector<std::pair<std::uint32_t, int>> haloLocal; // (global, local), sorted by global after filling
-  std::vector<std::array<int, 3>> faces;
   faces.reserve(patchFaces.size() + haloFaces.size());
   for (const std::uint32_t fi : patchFaces) {
     std::array<int, 3> t{};
@@ -486,124 +477,96 @@ PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& inde
       t[k] = patchLocal(std::uint32_t(vcg::tri::Index(g.mesh, g.mesh.face[fi].cV(k))));
     faces.push_back(t);
   }
-  {
-    std::vector<std::uint32_t> haloVerts;
-    for (const std::uint32_t fi : haloFaces)
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t gv = std::uint32_t(vcg::tri::Index(g.mesh, g.mesh.face[fi].cV(k)));
-        if (patchLocal(gv) < 0) haloVerts.push_back(gv);
-      }
-    std::sort(haloVerts.begin(), haloVerts.end());
-    haloVerts.erase(std::unique(haloVerts.begin(), haloVerts.end()), haloVerts.end());
-    for (const std::uint32_t gv : haloVerts) {
-      haloLocal.emplace_back(gv, int(globalOf.size()));
-      globalOf.push_back(gv);
+  std::vector<std::uint32_t> haloVerts;
+  for (const std::uint32_t fi : haloFaces)
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t gv = std::uint32_t(vcg::tri::Index(g.mesh, g.mesh.face[fi].cV(k)));
+      if (patchLocal(gv) < 0) haloVerts.push_back(gv);
     }
-    for (const std::uint32_t fi : haloFaces) {
-      std::array<int, 3> t{};
-      for (int k = 0; k < 3; ++k) {
-        const std::uint32_t gv = std::uint32_t(vcg::tri::Index(g.mesh, g.mesh.face[fi].cV(k)));
-        const int l = patchLocal(gv);
-        if (l >= 0) {
-          t[k] = l;
-        } else {
-          const auto it = std::lower_bound(haloLocal.begin(), haloLocal.end(), std::make_pair(gv, -1));
-          t[k] = it->second;
+  std::sort(haloVerts.begin(), haloVerts.end());
+  haloVerts.erase(std::unique(haloVerts.begin(), haloVerts.end()), haloVerts.end());
+  for (const std::uint32_t gv : haloVerts) {
+    haloLocal.emplace_back(gv, int(globalOf.size()));
+    globalOf.push_back(gv);
+  }
+  for (const std::uint32_t fi : haloFaces) {
+    std::array<int, 3> t{};
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t gv = std::uint32_t(vcg::tri::Index(g.mesh, g.mesh.face[fi].cV(k)));
+      const int l = patchLocal(gv);
+      if (l >= 0) {
+        t[k] = l;
+      } else {
+        const auto it = std::lower_bound(haloLocal.begin(), haloLocal.end(), std::make_pair(gv, -1));
+        t[k] = it->second;
+      }
+    }
+    faces.push_back(t);
+  }
+  lp.nPatchVerts = patchVerts.size();
+  lp.nPatchFaces = patchFaces.size();
+}
+
+template <class MeshType>
+void PatchwiseRemeshing<MeshType>::SplitHaloFans(LocalPatch& lp) {
+  std::vector<std::uint32_t>& globalOf = lp.globalOf;
+  std::vector<std::array<int, 3>>& faces = lp.faces;
+  const std::size_t nPatchVerts = lp.nPatchVerts, nPatchFaces = lp.nPatchFaces;
+  const std::size_t nv = globalOf.size();
+  std::vector<std::uint32_t> start(nv + 1, 0);
+  for (std::size_t f = nPatchFaces; f < faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) ++start[std::size_t(faces[f][k]) + 1];
+  for (std::size_t i = 0; i < nv; ++i) start[i + 1] += start[i];
+  std::vector<std::pair<std::uint32_t, int>> corners(start[nv]); // (face, corner)
+  std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
+  for (std::size_t f = nPatchFaces; f < faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) corners[fill[std::size_t(faces[f][k])]++] = {std::uint32_t(f), k};
+  std::vector<int> fan;
+  for (std::size_t u = nPatchVerts; u < nv; ++u) {
+    const std::uint32_t b = start[u], e = start[u + 1];
+    const std::uint32_t n = e - b;
+    if (n < 2) continue;
+    fan.assign(n, -1);
+    // Union-find over the corners of u: faces sharing an edge (u, w) are in one fan.
+    std::vector<std::uint32_t> parent(n);
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto find = [&](std::uint32_t x) {
+      while (parent[x] != x) x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (std::uint32_t i = 0; i < n; ++i)
+      for (std::uint32_t j = i + 1; j < n; ++j) {
+        const auto [fi, ki] = corners[b + i];
+        const auto [fj, kj] = corners[b + j];
+        const int nextI = faces[fi][(ki + 1) % 3], prevI = faces[fi][(ki + 2) % 3];
+        const int nextJ = faces[fj][(kj + 1) % 3], prevJ = faces[fj][(kj + 2) % 3];
+        if (nextI == prevJ || prevI == nextJ) {
+          const std::uint32_t ri = find(i), rj = find(j);
+          if (ri != rj) parent[std::max(ri, rj)] = std::min(ri, rj);
         }
       }
-      faces.push_back(t);
+    // Roots in increasing order; the first fan keeps u.
+    std::vector<std::uint32_t> roots;
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (find(i) == i) roots.push_back(i);
+    for (std::size_t r = 1; r < roots.size(); ++r) {
+      const int copy = int(globalOf.size());
+      globalOf.push_back(globalOf[u]);
+      for (std::uint32_t i = 0; i < n; ++i)
+        if (find(i) == roots[r]) faces[corners[b + i].first][corners[b + i].second] = copy;
     }
   }
-  const std::size_t nPatchVerts = patchVerts.size();
-  const std::size_t nPatchFaces = patchFaces.size();
+}
 
-  // Halo vertices whose faces form several fans (at the halo's rim) get one copy per fan.
-  {
-    const std::size_t nv = globalOf.size();
-    std::vector<std::uint32_t> start(nv + 1, 0);
-    for (std::size_t f = nPatchFaces; f < faces.size(); ++f)
-      for (int k = 0; k < 3; ++k) ++start[std::size_t(faces[f][k]) + 1];
-    for (std::size_t i = 0; i < nv; ++i) start[i + 1] += start[i];
-    std::vector<std::pair<std::uint32_t, int>> corners(start[nv]); // (face, corner)
-    std::vector<std::uint32_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t f = nPatchFaces; f < faces.size(); ++f)
-      for (int k = 0; k < 3; ++k) corners[fill[std::size_t(faces[f][k])]++] = {std::uint32_t(f), k};
-    std::vector<int> fan;
-    for (std::size_t u = nPatchVerts; u < nv; ++u) {
-      const std::uint32_t b = start[u], e = start[u + 1];
-      const std::uint32_t n = e - b;
-      if (n < 2) continue;
-      fan.assign(n, -1);
-      // Union-find over the corners of u: faces sharing an edge (u, w) are in one fan.
-      std::vector<std::uint32_t> parent(n);
-      std::iota(parent.begin(), parent.end(), 0u);
-      auto find = [&](std::uint32_t x) {
-        while (parent[x] != x) x = parent[x] = parent[parent[x]];
-        return x;
-      };
-      for (std::uint32_t i = 0; i < n; ++i)
-        for (std::uint32_t j = i + 1; j < n; ++j) {
-          const auto [fi, ki] = corners[b + i];
-          const auto [fj, kj] = corners[b + j];
-          const int nextI = faces[fi][(ki + 1) % 3], prevI = faces[fi][(ki + 2) % 3];
-          const int nextJ = faces[fj][(kj + 1) % 3], prevJ = faces[fj][(kj + 2) % 3];
-          if (nextI == prevJ || prevI == nextJ) {
-            const std::uint32_t ri = find(i), rj = find(j);
-            if (ri != rj) parent[std::max(ri, rj)] = std::min(ri, rj);
-          }
-        }
-      // Roots in increasing order; the first fan keeps u.
-      std::vector<std::uint32_t> roots;
-      for (std::uint32_t i = 0; i < n; ++i)
-        if (find(i) == i) roots.push_back(i);
-      for (std::size_t r = 1; r < roots.size(); ++r) {
-        const int copy = int(globalOf.size());
-        globalOf.push_back(globalOf[u]);
-        for (std::uint32_t i = 0; i < n; ++i)
-          if (find(i) == roots[r]) faces[corners[b + i].first][corners[b + i].second] = copy;
-      }
-    }
-  }
-
-  MeshType local;
-  vcg::tri::Allocator<MeshType>::AddVertices(local, globalOf.size());
-  for (std::size_t i = 0; i < globalOf.size(); ++i) local.vert[i].P() = g.mesh.vert[globalOf[i]].cP();
-  vcg::tri::Allocator<MeshType>::AddFaces(local, faces.size());
-  for (std::size_t f = 0; f < faces.size(); ++f)
-    for (int k = 0; k < 3; ++k) local.face[f].V(k) = &local.vert[std::size_t(faces[f][k])];
-  std::vector<double> sizing(globalOf.size());
-  for (std::size_t i = 0; i < globalOf.size(); ++i) sizing[i] = g.sizing[globalOf[i]];
-
-  // --- Remesh. ---
-  auto rarParams = ctx.params->rar;
-  rarParams.threads = 1;
-  Ops ops(local, *ctx.reference, ctx.L0, rarParams.guards, 1);
-  std::string error;
-  const auto initStart = std::chrono::steady_clock::now();
-  std::vector<int> globalFeet;
-  if (!g.globalFeet.empty()) {
-    globalFeet.resize(globalOf.size());
-    for (std::size_t i = 0; i < globalOf.size(); ++i) globalFeet[i] = g.globalFeet[globalOf[i]];
-  }
-  if (!ops.Init(&error, false, false, false, globalFeet.empty() ? nullptr : &globalFeet)) return fail(error);
-  const double secondsInit = rar_detail::Seconds(initStart);
-  for (std::size_t i = 0; i < globalOf.size(); ++i)
-    ops.SetLocked(local.vert[i], i >= nPatchVerts || g.borderId[globalOf[i]] >= 0);
-  auto inside = [&allowed, &index](const Point& q) {
-    const auto c = CellOf(index, q);
-    return std::binary_search(allowed.begin(), allowed.end(), CellKey(c[0], c[1], c[2]));
-  };
-  PatchResult r;
-  r.edited = true;
-  r.haloFaces = haloFaces.size();
-  r.secondsSetup = rar_detail::Seconds(setupStart);
-  r.secondsInit = secondsInit;
-  r.stats = Rar::Remesh(ops, sizing, rarParams, rarParams.iterations, 1, inside);
-
-  // --- Read the result back (no compaction: indices below are the ops' ones). ---
+template <class MeshType>
+bool PatchwiseRemeshing<MeshType>::ReadBack(const MeshType& local, const Global& g, const Context& ctx,
+                                            const LocalPatch& lp, const std::vector<double>& sizing,
+                                            PatchResult& r) {
+  const std::vector<std::uint32_t>& globalOf = lp.globalOf;
+  const std::size_t nPatchVerts = lp.nPatchVerts, nPatchFaces = lp.nPatchFaces;
   // Halo faces keep their slots [nPatchFaces, faces.size()); halo vertices theirs
   // [nPatchVerts, globalOf.size()): all their vertices are locked, so they are never edited.
-  const std::size_t haloEnd = faces.size();
+  const std::size_t haloEnd = lp.faces.size();
   constexpr int kUnused = std::numeric_limits<int>::min();
   std::vector<int> out(local.vert.size(), kUnused);
   for (std::size_t i = 0; i < local.vert.size(); ++i) {
@@ -628,11 +591,73 @@ PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& inde
       const std::size_t vi = vcg::tri::Index(local, f.cV(k));
       const bool haloVertex = vi >= nPatchVerts && vi < globalOf.size();
       if (haloVertex || out[vi] == kUnused) // cannot happen: patch faces only use patch vertices
-        return fail("a remeshed face uses a halo vertex");
+        return false;
       t[k] = out[vi];
     }
     r.faces.push_back(t);
   }
+  return true;
+}
+
+template <class MeshType>
+typename PatchwiseRemeshing<MeshType>::PatchResult
+PatchwiseRemeshing<MeshType>::RemeshPatch(const Global& g, const CellIndex& index, const Context& ctx, int p,
+                                          int haloCells) {
+  const std::vector<std::uint32_t>& patchFaces = g.facesOfPatch[std::size_t(p)];
+  PatchResult fallback;
+  auto fail = [&](const std::string& why) {
+    fallback = OriginalPatch(g, p);
+    fallback.failed = true;
+    fallback.error = why;
+    return fallback;
+  };
+  if (patchFaces.empty()) return OriginalPatch(g, p);
+
+  // --- Region: the patch's cells, dilated once (where vertices may go) and haloCells times. ---
+  std::vector<std::uint64_t> allowed;
+  const std::vector<std::uint32_t> haloFaces = PatchRegion(g, index, p, haloCells, allowed);
+
+  // --- Local mesh: patch vertices (increasing global index), then halo vertices. ---
+  LocalPatch lp;
+  BuildLocalFaces(g, patchFaces, haloFaces, lp);
+  // Halo vertices whose faces form several fans (at the halo's rim) get one copy per fan.
+  SplitHaloFans(lp);
+  const std::vector<std::uint32_t>& globalOf = lp.globalOf;
+  const std::vector<std::array<int, 3>>& faces = lp.faces;
+
+  MeshType local;
+  vcg::tri::Allocator<MeshType>::AddVertices(local, globalOf.size());
+  for (std::size_t i = 0; i < globalOf.size(); ++i) local.vert[i].P() = g.mesh.vert[globalOf[i]].cP();
+  vcg::tri::Allocator<MeshType>::AddFaces(local, faces.size());
+  for (std::size_t f = 0; f < faces.size(); ++f)
+    for (int k = 0; k < 3; ++k) local.face[f].V(k) = &local.vert[std::size_t(faces[f][k])];
+  std::vector<double> sizing(globalOf.size());
+  for (std::size_t i = 0; i < globalOf.size(); ++i) sizing[i] = g.sizing[globalOf[i]];
+
+  // --- Remesh. ---
+  auto rarParams = ctx.params->rar;
+  rarParams.threads = 1;
+  Ops ops(local, *ctx.reference, ctx.L0, rarParams.guards, 1);
+  std::string error;
+  std::vector<int> globalFeet;
+  if (!g.globalFeet.empty()) {
+    globalFeet.resize(globalOf.size());
+    for (std::size_t i = 0; i < globalOf.size(); ++i) globalFeet[i] = g.globalFeet[globalOf[i]];
+  }
+  if (!ops.Init(&error, false, false, false, globalFeet.empty() ? nullptr : &globalFeet)) return fail(error);
+  for (std::size_t i = 0; i < globalOf.size(); ++i)
+    ops.SetLocked(local.vert[i], i >= lp.nPatchVerts || g.borderId[globalOf[i]] >= 0);
+  auto inside = [&allowed, &index](const Point& q) {
+    const auto c = CellOf(index, q);
+    return std::binary_search(allowed.begin(), allowed.end(), CellKey(c[0], c[1], c[2]));
+  };
+  PatchResult r;
+  r.edited = true;
+  r.haloFaces = haloFaces.size();
+  r.stats = Rar::Remesh(ops, sizing, rarParams, rarParams.iterations, 1, inside);
+
+  // --- Read the result back (no compaction: indices below are the ops' ones). ---
+  if (!ReadBack(local, g, ctx, lp, sizing, r)) return fail("a remeshed face uses a halo vertex");
   return r;
 }
 
@@ -744,10 +769,8 @@ template <class MeshType>
 AdaptiveRemeshingStats PatchwiseRemeshing<MeshType>::StripPass(Global& g, const Context& ctx, int threads,
                                                                Result& result, std::string& error) {
   MeshType& m = g.mesh;
-  auto phase = std::chrono::steady_clock::now();
   Ops ops(m, *ctx.reference, ctx.L0, ctx.params->rar.guards, threads);
   if (!ops.Init(&error)) return {};
-  result.secondsStripInit = rar_detail::Seconds(phase);
   std::size_t& stripVertices = result.stripVertices;
   // Rings around the border vertices, breadth first over the one-rings.
   std::vector<int> ring(m.vert.size(), -1);
@@ -784,83 +807,61 @@ AdaptiveRemeshingStats PatchwiseRemeshing<MeshType>::StripPass(Global& g, const 
     stats = Rar::Remesh(ops, g.sizing, rarParams, ctx.params->borderIterations, threads);
   // Volume, then one more repair pass with nothing locked (the strip's edits change the
   // valences just outside it, the volume offset the shape of triangles on sharp creases).
-  phase = std::chrono::steady_clock::now();
   stats.Add(Rar::Finalize(ops, g.sizing, rarParams, threads));
-  result.secondsFinalize = rar_detail::Seconds(phase);
   ops.Finish();
   return stats;
 }
 
 template <class MeshType>
-typename PatchwiseRemeshing<MeshType>::Result
-PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const std::vector<int>& facePatch,
-                                 const Params& params, vcg::CallBackPos* cb) {
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  Result result;
-  auto finish = [&](bool ok, const std::string& message) {
-    result.ok = ok;
-    result.message = message;
-    result.seconds = rar_detail::Seconds(start);
-    return result;
-  };
-  auto progress = [&](int percent, const char* what) {
-    if (cb) cb(percent, what);
-  };
-
-  // --- Preconditions -----------------------------------------------------------------------------
+std::string PatchwiseRemeshing<MeshType>::CheckInput(MeshType& m, const std::vector<int>& facePatch,
+                                                     const Params& params, int& patchCount, double& L0) {
   const InputCheck check = CheckTriangleMeshInput(m);
-  if (!check.ok) return finish(false, "patch-wise remeshing refused: " + check.message);
+  if (!check.ok) return std::string("patch-wise remeshing refused: " + check.message);
   if (!vcg::tri::HasFFAdjacency(m) || !vcg::tri::HasVFAdjacency(m))
-    return finish(false, "patch-wise remeshing refused: face-face and vertex-face adjacency must be enabled");
+    return std::string("patch-wise remeshing refused: face-face and vertex-face adjacency must be enabled");
   if (facePatch.size() != m.face.size())
-    return finish(false, "patch-wise remeshing refused: the segmentation has " +
-                             std::to_string(facePatch.size()) + " entries for " +
-                             std::to_string(m.face.size()) + " faces");
-  int patchCount = 0;
+    return std::string("patch-wise remeshing refused: the segmentation has " +
+                       std::to_string(facePatch.size()) + " entries for " + std::to_string(m.face.size()) +
+                       " faces");
+  patchCount = 0;
   for (std::size_t fi = 0; fi < m.face.size(); ++fi) {
     if (m.face[fi].IsD()) continue;
-    if (facePatch[fi] < 0) return finish(false, "patch-wise remeshing refused: a face has no patch");
+    if (facePatch[fi] < 0) return std::string("patch-wise remeshing refused: a face has no patch");
     patchCount = std::max(patchCount, facePatch[fi] + 1);
   }
   const auto& rp = params.rar;
   if (rp.iterations < 0 || params.borderIterations < 0 || params.borderRings < 0 || params.haloCells < 0)
-    return finish(false, "patch-wise remeshing refused: negative iteration, ring or halo cell count");
+    return std::string("patch-wise remeshing refused: negative iteration, ring or halo cell count");
   if (!(rp.minLengthFactor > 0) || rp.maxLengthFactor < rp.minLengthFactor ||
       !(rp.collapseFactor < rp.splitFactor))
-    return finish(false, "patch-wise remeshing refused: need 0 < minLengthFactor <= maxLengthFactor and "
-                         "collapseFactor < splitFactor");
+    return std::string("patch-wise remeshing refused: need 0 < minLengthFactor <= maxLengthFactor and "
+                       "collapseFactor < splitFactor");
   const InputTopology input = CheckTopology(m);
   if (input.badFaces > 0)
-    return finish(
-        false, "patch-wise remeshing refused: the mesh has faces with a repeated or missing vertex; run the "
-               "cleaning stage first");
+    return std::string(
+        "patch-wise remeshing refused: the mesh has faces with a repeated or missing vertex; run the "
+        "cleaning stage first");
   if (input.nonManifoldEdges > 0 || input.nonManifoldVertices > 0 || input.misorientedEdges > 0)
-    return finish(false,
-                  "patch-wise remeshing refused: the mesh is not a consistently oriented 2-manifold (" +
-                      std::to_string(input.nonManifoldEdges) + " non-manifold edges, " +
-                      std::to_string(input.nonManifoldVertices) + " non-manifold vertices, " +
-                      std::to_string(input.misorientedEdges) +
-                      " misoriented edges); run the cleaning stage first");
+    return std::string("patch-wise remeshing refused: the mesh is not a consistently oriented 2-manifold (" +
+                       std::to_string(input.nonManifoldEdges) + " non-manifold edges, " +
+                       std::to_string(input.nonManifoldVertices) + " non-manifold vertices, " +
+                       std::to_string(input.misorientedEdges) +
+                       " misoriented edges); run the cleaning stage first");
   if (input.unreferencedVertices > 0)
-    return finish(
-        false,
+    return std::string(
         "patch-wise remeshing refused: the mesh has unreferenced vertices; run the cleaning stage first");
-  const double L0 = rp.targetEdgeLength > 0 ? rp.targetEdgeLength : input.meanEdgeLength;
+  L0 = rp.targetEdgeLength > 0 ? rp.targetEdgeLength : input.meanEdgeLength;
   if (!(L0 > 0) || !std::isfinite(L0))
-    return finish(false, "patch-wise remeshing refused: no valid target edge length");
-  result.targetEdgeLength = L0;
-  result.verticesIn = std::size_t(m.vn);
-  result.facesIn = std::size_t(m.fn);
-  const int threads = ResolveThreadCount(params.threads);
+    return std::string("patch-wise remeshing refused: no valid target edge length");
+  return {};
+}
 
-  // --- 1. Sizing, border vertices --------------------------------------------------------------------
-  auto phase = Clock::now();
-  progress(2, "RAR: sizing field");
-  UpdateAdjacency(m);
-  auto rarParams = rp;
-  rarParams.targetEdgeLength = L0;
-  Global g0;
+template <class MeshType>
+void PatchwiseRemeshing<MeshType>::PrepareSizing(MeshType& m, const std::vector<int>& facePatch,
+                                                 int patchCount, const Params& params,
+                                                 const typename Rar::Params& rarParams,
+                                                 const Reference& reference, double L0, int threads,
+                                                 Global& g0, Context& ctx, Result& result) {
   vcg::tri::Append<MeshType, MeshType>::MeshCopy(g0.mesh, m);
   UpdateAdjacency(g0.mesh);
   // MeshCopy compacts: map the segmentation onto the copy's faces (same order, deleted skipped).
@@ -883,7 +884,6 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
       else if (vp != g0.facePatch[fi])
         vp = -2;
     }
-  Context ctx;
   ctx.reference = &reference;
   ctx.params = &params;
   ctx.L0 = L0;
@@ -897,7 +897,133 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
     }
   result.borderVertices = ctx.borderPos.size();
   IndexPatches(g0, patchCount);
-  result.secondsSizing = rar_detail::Seconds(phase);
+}
+
+template <class MeshType>
+void PatchwiseRemeshing<MeshType>::RemeshPatchesInParallel(Global& g0, Context& ctx,
+                                                           const Reference& reference, int patchCount,
+                                                           int threads, std::vector<PatchResult>& original,
+                                                           std::vector<PatchResult>& results) {
+  const auto& rp = ctx.params->rar;
+  const double L0 = ctx.L0;
+  double longest = 0;
+  for (const FaceType& f : g0.mesh.face)
+    for (int k = 0; k < 3; ++k)
+      longest =
+          std::max(longest, (Ops::ToPoint(f.cV(k)->cP()) - Ops::ToPoint(f.cV((k + 1) % 3)->cP())).Norm());
+  ctx.cell = 1.05 * std::max(longest, rp.splitFactor * rp.maxLengthFactor * L0);
+  original.assign(static_cast<std::size_t>(patchCount), PatchResult());
+  results.assign(static_cast<std::size_t>(patchCount), PatchResult());
+  // The footpoints every patch's LocalRemeshingOps::Init would search for its vertices and its
+  // halo's, once per vertex instead of once per patch that holds it (about twice).
+  g0.globalFeet.assign(g0.mesh.vert.size(), -1);
+  ParallelFor(g0.mesh.vert.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t vi = begin; vi < end; ++vi) {
+      const VertexType& v = g0.mesh.vert[vi];
+      if (!v.IsD() && v.cVFp() != nullptr)
+        g0.globalFeet[vi] = reference.ProjectGlobal(Ops::ToPoint(v.cP())).face;
+    }
+  });
+  for (int p = 0; p < patchCount; ++p) original[std::size_t(p)] = OriginalPatch(g0, p);
+  {
+    CellIndex index;
+    BuildCellIndex(g0, ctx.cell, threads, index);
+    // Largest patches first for load balance; results go by patch id.
+    std::vector<int> order(static_cast<std::size_t>(patchCount));
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
+      return g0.facesOfPatch[std::size_t(a)].size() > g0.facesOfPatch[std::size_t(b)].size();
+    });
+    ParallelFor(
+        order.size(), threads,
+        [&](std::size_t begin, std::size_t end, int) {
+          for (std::size_t i = begin; i < end; ++i) {
+            const int p = order[i];
+            results[std::size_t(p)] = RemeshPatch(g0, index, ctx, p, ctx.haloCells);
+          }
+        },
+        1);
+  }
+}
+
+template <class MeshType>
+void PatchwiseRemeshing<MeshType>::StitchAndVerify(const Context& ctx, std::vector<PatchResult>& results,
+                                                   const std::vector<PatchResult>& original, int patchCount,
+                                                   double L0, int threads, Global& g, Result& result) {
+  Stitch(ctx, results, g);
+  std::vector<char> frozen(static_cast<std::size_t>(patchCount), 0);
+  for (int round = 0; round < 4; ++round) {
+    const auto pairs = CrossPatchIntersections(g, L0, threads);
+    std::vector<int> involved;
+    for (const auto& [a, b] : pairs) {
+      const int pa = g.facePatch[a], pb = g.facePatch[b];
+      if (!results[std::size_t(pa)].edited && !results[std::size_t(pb)].edited) continue; // was in the input
+      for (const int q : {pa, pb})
+        if (results[std::size_t(q)].edited) involved.push_back(q);
+    }
+    if (round == 0) result.conflictPairs = pairs.size();
+    std::sort(involved.begin(), involved.end());
+    involved.erase(std::unique(involved.begin(), involved.end()), involved.end());
+    if (involved.empty()) break;
+    for (const int q : involved) results[std::size_t(q)] = original[std::size_t(q)];
+    Stitch(ctx, results, g);
+    if (round == 0) {
+      // Redo each, one after the other, against everything else as it now is.
+      for (const int q : involved) {
+        CellIndex index;
+        BuildCellIndex(g, ctx.cell, threads, index);
+        results[std::size_t(q)] = RemeshPatch(g, index, ctx, q, std::max(ctx.haloCells, 1));
+        ++result.patchesRedone;
+        Stitch(ctx, results, g);
+      }
+    } else {
+      for (const int q : involved)
+        if (!frozen[std::size_t(q)]) {
+          frozen[std::size_t(q)] = 1;
+          ++result.patchesFrozen;
+        }
+    }
+  }
+  for (const PatchResult& r : results) {
+    result.patchStats.Add(r.stats);
+    result.haloFaces += r.haloFaces;
+    if (r.failed && result.patchesFailed++ == 0) result.firstFailure = r.error;
+  }
+}
+
+template <class MeshType>
+typename PatchwiseRemeshing<MeshType>::Result
+PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const std::vector<int>& facePatch,
+                                 const Params& params, vcg::CallBackPos* cb) {
+  Result result;
+  auto finish = [&](bool ok, const std::string& message) {
+    result.ok = ok;
+    result.message = message;
+    return result;
+  };
+  auto progress = [&](int percent, const char* what) {
+    if (cb) cb(percent, what);
+  };
+
+  // --- Preconditions -----------------------------------------------------------------------------
+  int patchCount = 0;
+  double L0 = 0;
+  if (std::string error = CheckInput(m, facePatch, params, patchCount, L0); !error.empty())
+    return finish(false, error);
+  const auto& rp = params.rar;
+  result.targetEdgeLength = L0;
+  result.verticesIn = std::size_t(m.vn);
+  result.facesIn = std::size_t(m.fn);
+  const int threads = ResolveThreadCount(params.threads);
+
+  // --- 1. Sizing, border vertices --------------------------------------------------------------------
+  progress(2, "RAR: sizing field");
+  UpdateAdjacency(m);
+  auto rarParams = rp;
+  rarParams.targetEdgeLength = L0;
+  Global g0;
+  Context ctx;
+  PrepareSizing(m, facePatch, patchCount, params, rarParams, reference, L0, threads, g0, ctx, result);
 
   // A single patch (or patches without shared vertices, i.e. one per component and component
   // count 1): plain RAR on the whole mesh with every thread.
@@ -907,7 +1033,6 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   MeshType* output = &g0.mesh;
   result.patches = int(nonEmpty);
   if (nonEmpty <= 1) {
-    phase = Clock::now();
     rarParams.threads = threads;
     Ops ops(g0.mesh, reference, L0, rarParams.guards, threads);
     std::string error;
@@ -915,114 +1040,26 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
     result.patchStats = Rar::Remesh(ops, g0.sizing, rarParams, rarParams.iterations, threads);
     result.patchStats.Add(Rar::Finalize(ops, g0.sizing, rarParams, threads));
     ops.Finish();
-    result.secondsPatches = rar_detail::Seconds(phase);
   } else {
     // --- 2. Patches in parallel ------------------------------------------------------------------------
-    phase = Clock::now();
     progress(5, "RAR: remeshing the patches");
-    double longest = 0;
-    for (const FaceType& f : g0.mesh.face)
-      for (int k = 0; k < 3; ++k)
-        longest =
-            std::max(longest, (Ops::ToPoint(f.cV(k)->cP()) - Ops::ToPoint(f.cV((k + 1) % 3)->cP())).Norm());
-    ctx.cell = 1.05 * std::max(longest, rp.splitFactor * rp.maxLengthFactor * L0);
-    std::vector<PatchResult> original(static_cast<std::size_t>(patchCount)),
-        results(static_cast<std::size_t>(patchCount));
-    // The footpoints every patch's LocalRemeshingOps::Init would search for its vertices and its
-    // halo's, once per vertex instead of once per patch that holds it (about twice).
-    g0.globalFeet.assign(g0.mesh.vert.size(), -1);
-    ParallelFor(g0.mesh.vert.size(), threads, [&](std::size_t begin, std::size_t end, int) {
-      for (std::size_t vi = begin; vi < end; ++vi) {
-        const VertexType& v = g0.mesh.vert[vi];
-        if (!v.IsD() && v.cVFp() != nullptr)
-          g0.globalFeet[vi] = reference.ProjectGlobal(Ops::ToPoint(v.cP())).face;
-      }
-    });
-    for (int p = 0; p < patchCount; ++p) original[std::size_t(p)] = OriginalPatch(g0, p);
-    {
-      CellIndex index;
-      BuildCellIndex(g0, ctx.cell, threads, index);
-      // Largest patches first for load balance; results go by patch id.
-      std::vector<int> order(static_cast<std::size_t>(patchCount));
-      std::iota(order.begin(), order.end(), 0);
-      std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-        return g0.facesOfPatch[std::size_t(a)].size() > g0.facesOfPatch[std::size_t(b)].size();
-      });
-      ParallelFor(
-          order.size(), threads,
-          [&](std::size_t begin, std::size_t end, int) {
-            for (std::size_t i = begin; i < end; ++i) {
-              const int p = order[i];
-              results[std::size_t(p)] = RemeshPatch(g0, index, ctx, p, ctx.haloCells);
-            }
-          },
-          1);
-    }
-    result.secondsPatches = rar_detail::Seconds(phase);
+    std::vector<PatchResult> original, results;
+    RemeshPatchesInParallel(g0, ctx, reference, patchCount, threads, original, results);
     // From here on the stitched mesh and the patches' original faces (`original`) are all that is
     // read: the copy of the input goes before the strip pass's mesh grows, so that its memory is
     // reused there (on 4JSV about 90 MB less at the peak).
     ReleaseMesh(g0.mesh);
 
     // --- 3. Stitch; 4. verify and redo conflicting patches -------------------------------------
-    phase = Clock::now();
     Global& g = stitched;
-    Stitch(ctx, results, g);
-    result.secondsStitch += rar_detail::Seconds(phase);
-    std::vector<char> frozen(static_cast<std::size_t>(patchCount), 0);
-    for (int round = 0; round < 4; ++round) {
-      phase = Clock::now();
-      const auto pairs = CrossPatchIntersections(g, L0, threads);
-      result.secondsCheck += rar_detail::Seconds(phase);
-      std::vector<int> involved;
-      for (const auto& [a, b] : pairs) {
-        const int pa = g.facePatch[a], pb = g.facePatch[b];
-        if (!results[std::size_t(pa)].edited && !results[std::size_t(pb)].edited)
-          continue; // was in the input
-        for (const int q : {pa, pb})
-          if (results[std::size_t(q)].edited) involved.push_back(q);
-      }
-      if (round == 0) result.conflictPairs = pairs.size();
-      std::sort(involved.begin(), involved.end());
-      involved.erase(std::unique(involved.begin(), involved.end()), involved.end());
-      if (involved.empty()) break;
-      phase = Clock::now();
-      for (const int q : involved) results[std::size_t(q)] = original[std::size_t(q)];
-      Stitch(ctx, results, g);
-      if (round == 0) {
-        // Redo each, one after the other, against everything else as it now is.
-        for (const int q : involved) {
-          CellIndex index;
-          BuildCellIndex(g, ctx.cell, threads, index);
-          results[std::size_t(q)] = RemeshPatch(g, index, ctx, q, std::max(ctx.haloCells, 1));
-          ++result.patchesRedone;
-          Stitch(ctx, results, g);
-        }
-      } else {
-        for (const int q : involved)
-          if (!frozen[std::size_t(q)]) {
-            frozen[std::size_t(q)] = 1;
-            ++result.patchesFrozen;
-          }
-      }
-      result.secondsStitch += rar_detail::Seconds(phase);
-    }
-    for (const PatchResult& r : results) {
-      result.patchStats.Add(r.stats);
-      result.haloFaces += r.haloFaces;
-      result.secondsPatchSetup += r.secondsSetup;
-      result.secondsPatchInit += r.secondsInit;
-      if (r.failed && result.patchesFailed++ == 0) result.firstFailure = r.error;
-    }
+    StitchAndVerify(ctx, results, original, patchCount, L0, threads, g, result);
 
     // --- 5. The strip around the borders; 6. finalize ------------------------------------------
     if (params.finalPasses) {
-      phase = Clock::now();
       progress(80, "RAR: remeshing the strip around the patch borders");
       std::string error;
       result.stripStats = StripPass(g, ctx, threads, result, error);
       if (!error.empty()) return finish(false, "patch-wise remeshing failed in the strip pass: " + error);
-      result.secondsStrip = rar_detail::Seconds(phase);
     }
     output = &g.mesh;
   }

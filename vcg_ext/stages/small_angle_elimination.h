@@ -112,24 +112,14 @@ public:
     std::size_t collapses = 0, flips = 0, moves = 0, refills = 0; ///< applied edits
     std::size_t refused = 0; ///< edits refused by the guards of LocalRemeshingOps
     int iterations = 0;      ///< rounds run
-    double seconds = 0;
-    std::string Summary() const {
-      return message + "\nfaces with an angle < min: " + std::to_string(smallFacesBefore) + " -> " +
-             std::to_string(smallFacesAfter) + "\nsmallest angle: " + std::to_string(angleMinBefore) +
-             " -> " + std::to_string(angleMinAfter) + "\ncollapses: " + std::to_string(collapses) +
-             "\nflips: " + std::to_string(flips) + "\nmoves: " + std::to_string(moves) +
-             "\nrefills: " + std::to_string(refills) + "\nrefused: " + std::to_string(refused) +
-             "\nrounds: " + std::to_string(iterations) + (creasePass ? " (with the crease pass)" : "") + "\n";
-    }
   };
 
   /// Runs the stage on m (a 2-manifold, consistently oriented mesh with FF and VF adjacency
   /// enabled, lying on reference). On failure m is left untouched (FF/VF adjacency recomputed)
   /// and Result::message says why.
   static Result Do(MeshType& m, const Reference& reference, const Params& params) {
-    const auto start = std::chrono::steady_clock::now();
     Result r;
-    auto finish = [&](bool ok, const std::string& message) { return FinishStage(r, ok, message, start); };
+    auto finish = [&](bool ok, const std::string& message) { return FinishStage(r, ok, message); };
     const std::string refused = "small-angle elimination refused: ";
     const InputCheck check = CheckTriangleMeshInput(m);
     if (!check.ok) return finish(false, refused + check.message);

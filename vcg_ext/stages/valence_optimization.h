@@ -136,22 +136,6 @@ public:
     std::size_t phaseTwoHoles = 0;                            ///< filled holes that grew in phase 2
     std::size_t holesKept = 0; ///< holes no fill was accepted for (the mesh kept its faces)
     int rounds = 0;
-    double seconds = 0;     ///< the whole stage
-    double initSeconds = 0; ///< of which: checks and intersection grid (LocalRemeshingOps::Init)
-    std::string Summary() const {
-      std::ostringstream s;
-      s.setf(std::ios::fixed);
-      s.precision(3);
-      s << "V567: " << before.RegularPercent() << "% -> " << after.RegularPercent()
-        << "% (irregular vertices " << before.irregular << " -> " << after.irregular << ")\n"
-        << "faces with an angle below the min: " << smallAnglesBefore << " -> " << smallAnglesAfter << "\n"
-        << "faces with an angle above the max: " << largeAnglesBefore << " -> " << largeAnglesAfter << "\n"
-        << "flips: " << flips << ", collapses: " << collapses << "\n"
-        << "holes refilled with 0/1/2 new vertices: " << filledZero << "/" << filledOne << "/" << filledTwo
-        << " (grown in phase 2: " << phaseTwoHoles << "), left as they were: " << holesKept << "\n"
-        << "rounds: " << rounds << ", time: " << seconds << " s (setup " << initSeconds << " s)\n";
-      return s.str();
-    }
   };
 
   /// Runs the stage on m, a 2-manifold lying on `reference` (FF and VF adjacency enabled). On
@@ -554,7 +538,6 @@ bool ValenceOptimization<MeshType>::Session::RemoveAndRefill(VertexPointer v) {
 template <class MeshType>
 typename ValenceOptimization<MeshType>::Result
 ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const Params& params) {
-  const auto start = std::chrono::steady_clock::now();
   Result result;
   const InputCheck check = CheckTriangleMeshInput(m);
   if (!check.ok) {
@@ -597,7 +580,6 @@ ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const
     result.message = "valence optimization refused: " + error;
     return result;
   }
-  result.initSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // The scans below read the mesh only: they run on every thread, each counting (or flagging)
   // into its own slots, so their results do not depend on the thread count.
   const int threads = ResolveThreadCount(params.threads);
@@ -667,7 +649,6 @@ ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const
   result.after = Census(m);
   countBad(result.smallAnglesAfter, result.largeAnglesAfter);
   result.ok = true;
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.message = "valence optimization: V567 " + std::to_string(result.before.RegularPercent()) + "% -> " +
                    std::to_string(result.after.RegularPercent()) + "%";
   return result;
