@@ -38,4 +38,11 @@ inline double MaxAbs(const Point& p) {
   return std::max({std::fabs(p[0]), std::fabs(p[1]), std::fabs(p[2])});
 }
 
+/// An orthonormal basis (e1, e2) of the plane orthogonal to the unit normal n.
+inline void TangentBasis(const Point& n, Point& e1, Point& e2) {
+  e1 = std::fabs(n[0]) < 0.9 ? Point(1, 0, 0) ^ n : Point(0, 1, 0) ^ n;
+  e1.Normalize();
+  e2 = n ^ e1;
+}
+
 } // namespace molremesh

@@ -68,17 +68,16 @@
 #include <vcg/complex/complex.h>
 
 #include <vcg_ext/core/input_check.h>
+#include <vcg_ext/core/parallel_for.h>
 #include <vcg_ext/geometry/point.h>
+#include <vcg_ext/geometry/triangle_angles.h>
 #include <vcg_ext/ops/local_remeshing_ops.h>
 #include <vcg_ext/quality/mesh_quality.h>
-#include <vcg_ext/core/parallel_for.h>
 #include <vcg_ext/surface/reference_surface.h>
 #include <vcg_ext/surface/surface_distance.h>
-#include <vcg_ext/geometry/triangle_angles.h>
 
 #include <algorithm>
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -361,9 +360,8 @@ double AdaptiveRemeshing<MeshType>::MaxAbsCurvature(const VertexType& v) {
   const double len = n.Norm();
   if (!(len > 0) || count < 2) return 0.0;
   n /= len;
-  Point e1 = std::fabs(n[0]) < 0.9 ? Point(1, 0, 0) ^ n : Point(0, 1, 0) ^ n;
-  e1.Normalize();
-  const Point e2 = n ^ e1;
+  Point e1, e2;
+  TangentBasis(n, e1, e2);
   // Least squares fit of kappa(t) = a x^2 + 2 b x y + c y^2 over the unit tangent directions.
   double M[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, r[3] = {0, 0, 0};
   double maxAbs = 0;
@@ -749,9 +747,8 @@ private:
     if (ring_.size() < 3 || !(n.Norm() > 0)) return false;
     n.Normalize();
     spacing /= double(ring_.size());
-    Point e1 = std::fabs(n[0]) < 0.9 ? Point(1, 0, 0) ^ n : Point(0, 1, 0) ^ n;
-    e1.Normalize();
-    const Point e2 = n ^ e1;
+    Point e1, e2;
+    TangentBasis(n, e1, e2);
     const double start = StarScore(p0);
     Point best = p0;
     int bestFoot = ops_.Footpoint(v);

@@ -17,7 +17,6 @@
 #include <vcg/simplex/face/pos.h>
 
 #include <array>
-#include <chrono>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -84,13 +83,6 @@ int ShortestEdgeIndex(const FaceType& f) {
     if (l < shortest) shortest = l, z = k;
   }
   return z;
-}
-
-/// An orthonormal basis (e1, e2) of the plane orthogonal to the unit normal n.
-inline void TangentBasis(const Point& n, Point& e1, Point& e2) {
-  e1 = std::fabs(n[0]) < 0.9 ? Point(1, 0, 0) ^ n : Point(0, 1, 0) ^ n;
-  e1.Normalize();
-  e2 = n ^ e1;
 }
 
 /// The corners around edge z of f and its neighbour g across it: {f's V(z), f's V(z+1), f's
