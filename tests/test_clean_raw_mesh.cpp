@@ -103,11 +103,11 @@ void ExpectValidResult(const MeshD& m, const molremesh::CleanRawMeshResult& r) {
   EXPECT_EQ(q.nonManifoldVertices, 0u);
   EXPECT_EQ(q.degenerateFaces, 0u);
   EXPECT_EQ(q.unreferencedVertices, 0u);
-  EXPECT_EQ(r.nonManifoldEdgesAfter, 0u);
-  EXPECT_EQ(r.nonManifoldVerticesAfter, 0u);
-  EXPECT_EQ(r.degenerateFacesAfter, 0u);
-  EXPECT_EQ(r.facesAfter, std::size_t(m.fn));
-  EXPECT_EQ(r.verticesAfter, std::size_t(m.vn));
+  EXPECT_EQ(r.reportAfter.nonManifoldEdges, 0u);
+  EXPECT_EQ(r.reportAfter.nonManifoldVertices, 0u);
+  EXPECT_EQ(r.reportAfter.degenerateFaces, 0u);
+  EXPECT_EQ(r.reportAfter.faces, std::size_t(m.fn));
+  EXPECT_EQ(r.reportAfter.vertices, std::size_t(m.vn));
   EXPECT_TRUE(vcg::tri::Clean<MeshD>::IsCoherentlyOrientedMesh(const_cast<MeshD&>(m)));
 }
 
@@ -177,12 +177,12 @@ TEST(CleanRawMesh, MergeToleranceIsRelativeToTheMeanEdgeLength) {
     ASSERT_TRUE(r.ok) << r.message;
     if (offset < 1e-6) {
       EXPECT_EQ(r.mergedVertices, 1u) << "offset " << offset;
-      EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+      EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
       EXPECT_EQ(r.closedHoles, 0u);
     } else {
       EXPECT_EQ(r.mergedVertices, 0u) << "offset " << offset;
     }
-    EXPECT_EQ(r.nonManifoldVerticesAfter, 0u);
+    EXPECT_EQ(r.reportAfter.nonManifoldVertices, 0u);
   }
 }
 
@@ -200,8 +200,8 @@ TEST(CleanRawMesh, DuplicateFacesAreRemoved) {
   ExpectValidResult(m, r);
   EXPECT_EQ(r.removedDuplicateFaces, 3u);
   EXPECT_EQ(std::size_t(m.fn), faces);
-  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
-  EXPECT_EQ(r.genusAfter, 0);
+  EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
+  EXPECT_EQ(r.reportAfter.genus, 0);
   EXPECT_EQ(r.flippedFacesForOrientation, 0u);
 }
 
@@ -228,11 +228,11 @@ TEST(CleanRawMesh, ZeroAreaCapInsideAClosedMeshIsFlippedAwayAndTheMeshStaysClose
   EXPECT_EQ(r.flippedDegenerateFaces, 1u);
   EXPECT_EQ(r.remainingDegenerateFaces, 0u);
   EXPECT_EQ(std::size_t(m.fn), s.faces.size()); // a flip removes no face
-  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
-  EXPECT_EQ(r.genusAfter, 0);
+  EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
+  EXPECT_EQ(r.reportAfter.genus, 0);
   EXPECT_EQ(r.closedHoles, 0u);
-  EXPECT_NEAR(r.areaAfter, input.area, 1e-12);
-  EXPECT_NEAR(r.volumeAfter, input.volume, 1e-12);
+  EXPECT_NEAR(r.reportAfter.area, input.area, 1e-12);
+  EXPECT_NEAR(r.reportAfter.volume, input.volume, 1e-12);
 }
 
 TEST(CleanRawMesh, VanishingEdgeIsCollapsedWithoutMovingAnythingElse) {
@@ -261,8 +261,8 @@ TEST(CleanRawMesh, VanishingEdgeIsCollapsedWithoutMovingAnythingElse) {
     const auto r = Clean::Do(m, params);
     ExpectValidResult(m, r);
     EXPECT_EQ(std::size_t(m.fn), faces) << "tolerance " << tolerance;
-    EXPECT_EQ(r.boundaryEdgesAfter, 0u);
-    EXPECT_EQ(r.genusAfter, 0);
+    EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
+    EXPECT_EQ(r.reportAfter.genus, 0);
     EXPECT_EQ(r.removedDegenerateFaces, 2u);
     if (tolerance == 0) {
       EXPECT_EQ(r.collapsedDegenerateEdges, 1u);
@@ -288,8 +288,8 @@ TEST(CleanRawMesh, FinOnAnEdgeIsRemovedAndTheSphereStaysClosed) {
   ExpectValidResult(m, r);
   EXPECT_EQ(r.removedNonManifoldFaces, 1u);
   EXPECT_EQ(std::size_t(m.fn), faces);
-  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
-  EXPECT_EQ(r.genusAfter, 0);
+  EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
+  EXPECT_EQ(r.reportAfter.genus, 0);
   EXPECT_EQ(r.removedOrphanedVertices, 1u);
 }
 
@@ -308,11 +308,11 @@ TEST(CleanRawMesh, TwoTetrahedraSharingAnEdgeBecomeOneClosedManifold) {
   const auto r = Clean::Do(m);
   ExpectValidResult(m, r);
   EXPECT_EQ(r.removedNonManifoldFaces, 2u); // the fewest: k - 2
-  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
+  EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
   EXPECT_EQ(r.closedHoles, 1u);
-  EXPECT_EQ(r.genusAfter, 0);
-  EXPECT_GT(r.volumeAfter, 0);
-  EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
+  EXPECT_EQ(r.reportAfter.genus, 0);
+  EXPECT_GT(r.reportAfter.volume, 0);
+  EXPECT_EQ(r.reportAfter.selfIntersectingFaces, 0u);
 }
 
 TEST(CleanRawMesh, SpheresTouchingAtAVertexAreSeparatedWithoutTouching) {
@@ -342,10 +342,10 @@ TEST(CleanRawMesh, SpheresTouchingAtAVertexAreSeparatedWithoutTouching) {
   EXPECT_EQ(r.splitNonManifoldVertices, 1u);
   EXPECT_EQ(r.retriangulatedPinchFans, 1u); // otherwise the two copies would touch
   EXPECT_EQ(r.touchingSplitVertices, 0u);
-  EXPECT_EQ(r.componentsAfter, 2u);
-  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
-  EXPECT_EQ(r.genusAfter, 0);
-  EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
+  EXPECT_EQ(r.reportAfter.components, 2u);
+  EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
+  EXPECT_EQ(r.reportAfter.genus, 0);
+  EXPECT_EQ(r.reportAfter.selfIntersectingFaces, 0u);
 }
 
 TEST(CleanRawMesh, BoundaryPinchIsClosedIntoOneManifoldFan) {
@@ -383,8 +383,8 @@ TEST(CleanRawMesh, BoundaryPinchIsClosedIntoOneManifoldFan) {
   EXPECT_EQ(r.closedHoles, 1u);
   EXPECT_EQ(r.holeFacesAdded, 2u);
   EXPECT_EQ(r.splitNonManifoldVertices, 0u);
-  EXPECT_EQ(r.boundaryEdgesAfter, 0u);
-  EXPECT_EQ(r.genusAfter, 0);
+  EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
+  EXPECT_EQ(r.reportAfter.genus, 0);
   EXPECT_EQ(std::size_t(m.vn), s.points.size());
 }
 
@@ -401,7 +401,7 @@ TEST(CleanRawMesh, InvertedFacesAreReorientedAndTheVolumeIsPositive) {
     const auto r = Clean::Do(m);
     ExpectValidResult(m, r);
     EXPECT_EQ(r.flippedFacesForOrientation, 1u);
-    EXPECT_NEAR(r.volumeAfter, volume, 1e-12);
+    EXPECT_NEAR(r.reportAfter.volume, volume, 1e-12);
   }
   {
     // The seed face of the traversal inverted: the majority orientation must still win.
@@ -412,7 +412,7 @@ TEST(CleanRawMesh, InvertedFacesAreReorientedAndTheVolumeIsPositive) {
     const auto r = Clean::Do(m);
     ExpectValidResult(m, r);
     EXPECT_EQ(r.flippedFacesForOrientation, 1u);
-    EXPECT_NEAR(r.volumeAfter, volume, 1e-12);
+    EXPECT_NEAR(r.reportAfter.volume, volume, 1e-12);
   }
   {
     // Everything inside out: the closed component is turned outward.
@@ -424,7 +424,7 @@ TEST(CleanRawMesh, InvertedFacesAreReorientedAndTheVolumeIsPositive) {
     ExpectValidResult(m, r);
     EXPECT_EQ(r.flippedComponents, 1u);
     EXPECT_EQ(r.flippedFacesForOrientation, s.faces.size());
-    EXPECT_NEAR(r.volumeAfter, volume, 1e-12);
+    EXPECT_NEAR(r.reportAfter.volume, volume, 1e-12);
   }
 }
 
@@ -447,9 +447,9 @@ TEST(CleanRawMesh, CavityNormalsPointIntoTheCavity) {
     params.orientCavitiesInward = inward;
     const auto r = Clean::Do(m, params);
     ExpectValidResult(m, r);
-    EXPECT_EQ(r.componentsAfter, 2u);
+    EXPECT_EQ(r.reportAfter.components, 2u);
     EXPECT_EQ(r.flippedComponents, inward ? 1u : 0u);
-    EXPECT_NEAR(r.volumeAfter, inward ? outerVolume * (1 - 0.125) : outerVolume * (1 + 0.125), 1e-9);
+    EXPECT_NEAR(r.reportAfter.volume, inward ? outerVolume * (1 - 0.125) : outerVolume * (1 + 0.125), 1e-9);
   }
 }
 
@@ -479,17 +479,17 @@ TEST(CleanRawMesh, SmallHoleIsClosedWithGenusZeroAndLargeHoleIsLeftOpen) {
       ASSERT_LE(input.boundaryEdges, 6u);
       EXPECT_EQ(r.closedHoles, 1u);
       EXPECT_EQ(r.holeFacesAdded, input.boundaryEdges - 2);
-      EXPECT_EQ(r.boundaryEdgesAfter, 0u);
-      EXPECT_EQ(r.genusAfter, 0);
-      EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
-      EXPECT_NEAR(r.areaAfter, area, 0.01 * area); // the flat patch is a little smaller than the cap
-      EXPECT_GT(r.volumeAfter, 0);
+      EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
+      EXPECT_EQ(r.reportAfter.genus, 0);
+      EXPECT_EQ(r.reportAfter.selfIntersectingFaces, 0u);
+      EXPECT_NEAR(r.reportAfter.area, area, 0.01 * area); // the flat patch is a little smaller than the cap
+      EXPECT_GT(r.reportAfter.volume, 0);
     } else {
       ASSERT_GT(input.boundaryEdges, 20u);
       EXPECT_EQ(r.closedHoles, 0u);
       EXPECT_EQ(r.unfilledHoles, 1u);
       EXPECT_EQ(r.largestUnfilledHoleEdges, input.boundaryEdges);
-      EXPECT_EQ(r.boundaryEdgesAfter, input.boundaryEdges);
+      EXPECT_EQ(r.reportAfter.boundaryEdges, input.boundaryEdges);
     }
   }
 }
@@ -516,11 +516,11 @@ TEST(CleanRawMesh, TinyExtraComponentIsRemovedAndCounted) {
       EXPECT_EQ(r.removedComponentFaces, 4u);
       EXPECT_EQ(r.removedOrphanedVertices, 4u);
       EXPECT_EQ(std::size_t(m.fn), faces);
-      EXPECT_EQ(r.componentsAfter, 1u);
+      EXPECT_EQ(r.reportAfter.components, 1u);
       EXPECT_NE(CleanRawMeshSummary(r).find("removed small components: 1"), std::string::npos);
     } else {
       EXPECT_EQ(r.removedSmallComponents, 0u);
-      EXPECT_EQ(r.componentsAfter, 2u);
+      EXPECT_EQ(r.reportAfter.components, 2u);
     }
   }
 }
@@ -592,8 +592,8 @@ TEST(CleanRawMesh, OpenFixturesStayOpenAndNothingIsFoldedOverThem) {
   EXPECT_EQ(r.closedHoles, 0u); // a cap on a flat sheet would fold onto it
   EXPECT_EQ(r.splitNonManifoldVertices, 2u);
   EXPECT_EQ(r.movedSplitVertices, 2u); // whole components: no fan to retriangulate
-  EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
-  EXPECT_GT(r.boundaryEdgesAfter, 0u);
+  EXPECT_EQ(r.reportAfter.selfIntersectingFaces, 0u);
+  EXPECT_GT(r.reportAfter.boundaryEdges, 0u);
 
   // degenerate_faces.ply: a good triangle, a repeated-index face, an isolated collinear triangle.
   MeshD d;
@@ -702,7 +702,7 @@ TEST(CleanRawMesh, FloatMeshWithOptionalAdjacency) {
   ASSERT_TRUE(molremesh::LoadMesh(d, molremesh::test::SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), error))
       << error;
   const auto rd = Clean::Do(d);
-  EXPECT_EQ(r.facesAfter, rd.facesAfter);
+  EXPECT_EQ(r.reportAfter.faces, rd.reportAfter.faces);
   EXPECT_EQ(r.closedHoles, rd.closedHoles);
   EXPECT_EQ(r.holeFacesAdded, rd.holeFacesAdded);
 }
@@ -732,14 +732,14 @@ void CheckRealMesh(const RealMesh& c, bool printRow) {
     for (const auto& component : q.componentInfo) EXPECT_TRUE(component.closed);
     EXPECT_GE(q.genus, 0);
   }
-  EXPECT_LE(r.selfIntersectingFacesAfter, r.selfIntersectingFacesBefore);
-  EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
+  EXPECT_LE(r.reportAfter.selfIntersectingFaces, r.reportBefore.selfIntersectingFaces);
+  EXPECT_EQ(r.reportAfter.selfIntersectingFaces, 0u);
   EXPECT_EQ(r.touchingSplitVertices, 0u);
   EXPECT_EQ(r.movedSplitVertices, 0u);
   EXPECT_EQ(r.remainingDegenerateFaces, 0u);
   for (const auto& p : Positions(m)) ASSERT_TRUE(inputPositions.count(p)) << "a vertex moved";
-  const double areaChange = 100.0 * (r.areaAfter - r.areaBefore) / r.areaBefore;
-  const double volumeChange = 100.0 * (r.volumeAfter - r.volumeBefore) / r.volumeBefore;
+  const double areaChange = 100.0 * (r.reportAfter.area - r.reportBefore.area) / r.reportBefore.area;
+  const double volumeChange = 100.0 * (r.reportAfter.volume - r.reportBefore.volume) / r.reportBefore.volume;
   if (r.removedSmallComponents == 0 && r.flippedComponents == 0) {
     EXPECT_LT(std::fabs(areaChange), c.maxAreaChange);
     EXPECT_LT(std::fabs(volumeChange), c.maxAreaChange);
@@ -752,7 +752,7 @@ void CheckRealMesh(const RealMesh& c, bool printRow) {
   // Idempotent: a second pass finds nothing to do.
   const auto again = Clean::Do(m);
   ASSERT_TRUE(again.ok);
-  EXPECT_EQ(again.facesAfter, r.facesAfter);
+  EXPECT_EQ(again.reportAfter.faces, r.reportAfter.faces);
   EXPECT_EQ(again.mergedVertices + again.removedDuplicateFaces + again.removedDegenerateFaces +
                 again.removedNonManifoldFaces + again.splitNonManifoldVertices +
                 again.flippedFacesForOrientation + again.closedHoles + again.removedSmallComponents +
@@ -766,15 +766,16 @@ void CheckRealMesh(const RealMesh& c, bool printRow) {
         "(+%zu f, %zu open), orphans %zu | bnd %zu | nm %zu/%zu | deg %zu | SI %zu->%zu | comps %zu | genus "
         "%d | "
         "dA %+.3f%% | dV %+.3f%% | %.2f s |\n",
-        c.file, r.facesBefore, r.facesAfter, r.mergedVertices, r.removedUnreferencedVertices,
+        c.file, r.reportBefore.faces, r.reportAfter.faces, r.mergedVertices, r.removedUnreferencedVertices,
         r.removedDuplicateFaces, r.removedDegenerateFaces, r.flippedDegenerateFaces,
         r.removedNonManifoldFaces, r.splitNonManifoldVertices, r.retriangulatedPinchFans,
         r.flippedFacesForOrientation, r.flippedComponents, r.repairedTangles,
         r.repairedTangles + r.unrepairedTangles, r.tangleFacesRemoved, r.tangleFacesAdded,
         r.removedSmallComponents, r.removedComponentFaces, r.closedHoles, r.holeFacesAdded, r.unfilledHoles,
-        r.removedOrphanedVertices, r.boundaryEdgesAfter, r.nonManifoldEdgesAfter, r.nonManifoldVerticesAfter,
-        r.degenerateFacesAfter, r.selfIntersectingFacesBefore, r.selfIntersectingFacesAfter,
-        r.componentsAfter, r.genusAfter, areaChange, volumeChange, seconds);
+        r.removedOrphanedVertices, r.reportAfter.boundaryEdges, r.reportAfter.nonManifoldEdges,
+        r.reportAfter.nonManifoldVertices, r.reportAfter.degenerateFaces,
+        r.reportBefore.selfIntersectingFaces, r.reportAfter.selfIntersectingFaces, r.reportAfter.components,
+        r.reportAfter.genus, areaChange, volumeChange, seconds);
 }
 
 class RealMeshes : public ::testing::TestWithParam<RealMesh> {};
@@ -812,7 +813,7 @@ TEST(CleanRawMesh, RealMeshSpecifics) {
     EXPECT_EQ(r.removedComponentFaces, 3u);
     EXPECT_EQ(r.closedHoles, 1u);
     EXPECT_EQ(r.splitNonManifoldVertices, 0u);
-    EXPECT_EQ(r.genusAfter, 0);
+    EXPECT_EQ(r.reportAfter.genus, 0);
   }
   {
     // Jmol: 8 910 unreferenced vertices and nothing else to do.
@@ -821,7 +822,7 @@ TEST(CleanRawMesh, RealMeshSpecifics) {
     const auto r = Clean::Do(m);
     ASSERT_TRUE(r.ok);
     EXPECT_EQ(r.removedUnreferencedVertices, 8910u);
-    EXPECT_EQ(r.facesAfter, r.facesBefore);
+    EXPECT_EQ(r.reportAfter.faces, r.reportBefore.faces);
   }
   {
     // PyMOL: a vertex joining two closed fans inside a tangle of intersecting faces.
@@ -829,9 +830,9 @@ TEST(CleanRawMesh, RealMeshSpecifics) {
     ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::SharedMesh("ubiquitin_1UBQ_pymol_ses.ply"), error));
     const auto r = Clean::Do(m);
     ASSERT_TRUE(r.ok);
-    EXPECT_GT(r.selfIntersectingFacesBefore, 0u);
-    EXPECT_EQ(r.selfIntersectingFacesAfter, 0u);
-    EXPECT_EQ(r.componentsAfter, 1u);
+    EXPECT_GT(r.reportBefore.selfIntersectingFaces, 0u);
+    EXPECT_EQ(r.reportAfter.selfIntersectingFaces, 0u);
+    EXPECT_EQ(r.reportAfter.components, 1u);
   }
 }
 
@@ -869,7 +870,7 @@ TEST(CleanRawMesh, SameOutputForAnyThreadCount) {
     params.threads = threads;
     const auto r = Clean::Do(m, params);
     ASSERT_TRUE(r.ok) << r.message;
-    EXPECT_GT(r.selfIntersectingFacesBefore, 0u);
+    EXPECT_GT(r.reportBefore.selfIntersectingFaces, 0u);
     positions.emplace_back();
     faces.emplace_back();
     for (const auto& v : m.vert) positions.back().push_back(v.cP());

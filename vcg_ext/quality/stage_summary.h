@@ -29,8 +29,8 @@ inline std::string CleanRawMeshSummary(const CleanRawMeshResult& r) {
     std::snprintf(buffer, sizeof buffer, "%.6g", value);
     s += std::string(name) + ": " + buffer + "\n";
   };
-  line("vertices before", r.verticesBefore);
-  line("faces before", r.facesBefore);
+  line("vertices before", r.reportBefore.vertices);
+  line("faces before", r.reportBefore.faces);
   line("merged vertices", r.mergedVertices);
   line("removed unreferenced vertices", r.removedUnreferencedVertices);
   line("removed duplicate faces", r.removedDuplicateFaces);
@@ -61,22 +61,22 @@ inline std::string CleanRawMeshSummary(const CleanRawMeshResult& r) {
   line("unfilled holes", r.unfilledHoles);
   line("largest unfilled hole edges", r.largestUnfilledHoleEdges);
   line("removed orphaned vertices", r.removedOrphanedVertices);
-  if (r.selfIntersectionsMeasured) {
-    line("self-intersecting faces before", r.selfIntersectingFacesBefore);
-    line("self-intersecting faces after", r.selfIntersectingFacesAfter);
+  if (r.reportBefore.selfIntersectionsComputed) {
+    line("self-intersecting faces before", r.reportBefore.selfIntersectingFaces);
+    line("self-intersecting faces after", r.reportAfter.selfIntersectingFaces);
   }
-  line("vertices after", r.verticesAfter);
-  line("faces after", r.facesAfter);
-  line("boundary edges after", r.boundaryEdgesAfter);
-  line("non-manifold edges after", r.nonManifoldEdgesAfter);
-  line("non-manifold vertices after", r.nonManifoldVerticesAfter);
-  line("degenerate faces after", r.degenerateFacesAfter);
-  line("components after", r.componentsAfter);
-  s += "genus after: " + std::to_string(r.genusAfter) + "\n";
-  real("area before", r.areaBefore);
-  real("area after", r.areaAfter);
-  real("volume before", r.volumeBefore);
-  real("volume after", r.volumeAfter);
+  line("vertices after", r.reportAfter.vertices);
+  line("faces after", r.reportAfter.faces);
+  line("boundary edges after", r.reportAfter.boundaryEdges);
+  line("non-manifold edges after", r.reportAfter.nonManifoldEdges);
+  line("non-manifold vertices after", r.reportAfter.nonManifoldVertices);
+  line("degenerate faces after", r.reportAfter.degenerateFaces);
+  line("components after", r.reportAfter.components);
+  s += "genus after: " + std::to_string(r.reportAfter.genus) + "\n";
+  real("area before", r.reportBefore.area);
+  real("area after", r.reportAfter.area);
+  real("volume before", r.reportBefore.volume);
+  real("volume after", r.reportAfter.volume);
   return s;
 }
 

@@ -1,0 +1,223 @@
+// Cleaning steps on orientation (vcg_ext/clean/): coherent orientation of every component, the
+// count of components that cannot be oriented, and the outward orientation of closed components.
+//
+// Orientation<MeshType>::OrientCoherently needs fresh FF adjacency on an edge-manifold mesh;
+// OrientOutward needs fresh FF adjacency. Both leave the adjacency fresh. `flipped` is indexed by
+// face and must have at least m.face.size() entries: each face whose orientation they reverse has
+// its entry toggled, so the caller can count the input faces reversed an odd number of times.
+#pragma once
+
+#include <vcg/complex/complex.h>
+#include <vcg/space/box3.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include <vcg_ext/clean/clean_mesh_access.h>
+#include <vcg_ext/core/index.h>
+#include <vcg_ext/geometry/point.h>
+
+namespace molremesh {
+namespace clean {
+
+template <class MeshType>
+class Orientation {
+public:
+  using FaceType = typename MeshType::FaceType;
+
+  /// Traversal over manifold edges; a neighbour seen the wrong way round is flipped
+  /// (vcg::face::SwapEdge keeps FF consistent). When more than half of a component was flipped, the
+  /// whole component is flipped back so the input's majority orientation wins. Pairs of faces that
+  /// stay incoherent (the component is not orientable as it is) are returned in `conflicts`. vcglib's
+  /// Clean::OrientCoherentlyMesh is not used because it stops at the first non-orientable component.
+  static void OrientCoherently(MeshType& m, std::vector<std::uint8_t>& flipped,
+                               std::vector<std::pair<Index, Index>>& conflicts) {
+    conflicts.clear();
+    std::vector<std::uint8_t> seen(m.face.size(), 0);
+    std::vector<Index> component, queue;
+    bool changed = false;
+    for (Index s = 0; s < m.face.size(); ++s) {
+      if (m.face[s].IsD() || seen[s]) continue;
+      component.clear();
+      queue.assign(1, s);
+      seen[s] = 1;
+      std::size_t flips = 0;
+      bool orientable = true;
+      while (!queue.empty()) {
+        const Index f = queue.back();
+        queue.pop_back();
+        component.push_back(f);
+        FaceType& F = m.face[f];
+        for (int e = 0; e < 3; ++e) {
+          if (IsBorderEdge(F, e)) continue;
+          FaceType* g = F.FFp(e);
+          if (g->FFp(F.FFi(e)) != &F) continue; // not a manifold edge
+          const Index gi = FI(m, g);
+          if (!Coherent(F, e)) {
+            if (!seen[gi]) {
+              vcg::face::SwapEdge<FaceType, true>(*g, 0);
+              flipped[gi] ^= 1;
+              ++flips;
+              changed = true;
+            } else {
+              orientable = false;
+              conflicts.emplace_back(std::min(f, gi), std::max(f, gi));
+            }
+          }
+          if (!seen[gi]) {
+            seen[gi] = 1;
+            queue.push_back(gi);
+          }
+        }
+      }
+      if (orientable && 2 * flips > component.size()) {
+        for (Index f : component) {
+          vcg::face::SwapEdge<FaceType, false>(m.face[f], 0);
+          flipped[f] ^= 1;
+        }
+        changed = true;
+      }
+    }
+    std::sort(conflicts.begin(), conflicts.end());
+    conflicts.erase(std::unique(conflicts.begin(), conflicts.end()), conflicts.end());
+    if (changed) RebuildTopology(m);
+  }
+
+  /// Components still holding one of the `conflicts` OrientCoherently returned (needs fresh FF
+  /// adjacency).
+  static std::size_t CountNonOrientableComponents(const MeshType& m,
+                                                  const std::vector<std::pair<Index, Index>>& conflicts) {
+    std::vector<Index> label;
+    std::vector<std::size_t> size;
+    LabelComponents(m, label, size);
+    std::vector<std::uint8_t> bad(size.size(), 0);
+    for (const auto& conflict : conflicts)
+      if (!m.face[conflict.first].IsD()) bad[label[conflict.first]] = 1;
+    return std::size_t(std::count(bad.begin(), bad.end(), 1));
+  }
+
+  /// Turns every closed component outward: positive volume, except, with cavitiesInward, components
+  /// nested inside an odd number of other components (cavities of a molecular surface), whose
+  /// normals point into the cavity (negative volume), as PyMOL writes them. Returns the components
+  /// flipped.
+  static std::size_t OrientOutward(MeshType& m, bool cavitiesInward, std::vector<std::uint8_t>& flipped) {
+    std::size_t flippedComponents = 0;
+    std::vector<Index> label;
+    std::vector<std::size_t> size;
+    const std::size_t count = LabelComponents(m, label, size);
+    std::vector<std::vector<Index>> faces(count);
+    std::vector<std::uint8_t> closed(count, 1);
+    for (Index f = 0; f < m.face.size(); ++f) {
+      if (m.face[f].IsD()) continue;
+      faces[label[f]].push_back(f);
+      for (int e = 0; e < 3; ++e)
+        if (IsBorderEdge(m.face[f], e)) closed[label[f]] = 0;
+    }
+    std::vector<double> volume(count, 0);
+    std::vector<vcg::Box3d> box(count);
+    for (std::size_t c = 0; c < count; ++c) {
+      Point centroid(0, 0, 0);
+      std::size_t n = 0;
+      for (Index f : faces[c])
+        for (int k = 0; k < 3; ++k) {
+          centroid += PositionOf(&m.vert[VI(m, m.face[f], k)]);
+          box[c].Add(PositionOf(&m.vert[VI(m, m.face[f], k)]));
+          ++n;
+        }
+      centroid /= double(n);
+      for (Index f : faces[c]) {
+        const Tri t = FaceTri(m, m.face[f]);
+        volume[c] += (PositionOf(&m.vert[t[0]]) - centroid) *
+                     ((PositionOf(&m.vert[t[1]]) - centroid) ^ (PositionOf(&m.vert[t[2]]) - centroid)) / 6.0;
+      }
+    }
+    const std::array<Point, 5> directions{Point(0.5773, 0.5774, 0.5775), Point(-0.7071, 0.4082, 0.5774),
+                                          Point(0.1, -0.9, 0.4243), Point(-0.3, -0.2, -0.9327),
+                                          Point(0.8, 0.1, -0.5916)};
+    bool changed = false;
+    for (std::size_t c = 0; c < count; ++c) {
+      if (!closed[c] || volume[c] == 0) continue;
+      int depth = 0;
+      if (cavitiesInward) {
+        // A point on the component: the centroid of its largest face.
+        Index probe = faces[c].front();
+        double bestArea = -1;
+        for (Index f : faces[c]) {
+          const double a = FaceArea(m, m.face[f]);
+          if (a > bestArea) bestArea = a, probe = f;
+        }
+        const Tri t = FaceTri(m, m.face[probe]);
+        const Point origin =
+            (PositionOf(&m.vert[t[0]]) + PositionOf(&m.vert[t[1]]) + PositionOf(&m.vert[t[2]])) / 3.0;
+        // Containers may be open (a hole left unfilled): the vote over several rays tolerates a ray
+        // escaping through a small hole.
+        for (std::size_t d = 0; d < count; ++d) {
+          if (d == c || !box[d].IsIn(box[c].min) || !box[d].IsIn(box[c].max)) continue;
+          int inside = 0, outside = 0;
+          for (const Point& dir : directions) {
+            bool ambiguous = false;
+            const bool in = RayParity(m, faces[d], origin, dir / dir.Norm(), ambiguous);
+            if (!ambiguous) (in ? inside : outside) += 1;
+          }
+          if (inside > outside) ++depth;
+        }
+      }
+      const bool wantPositive = depth % 2 == 0;
+      if ((volume[c] > 0) == wantPositive) continue;
+      for (Index f : faces[c]) {
+        std::swap(m.face[f].V(1), m.face[f].V(2));
+        flipped[f] ^= 1;
+      }
+      ++flippedComponents;
+      changed = true;
+    }
+    if (changed) RebuildTopology(m);
+    return flippedComponents;
+  }
+
+private:
+  static bool Coherent(const FaceType& f, int e) {
+    const FaceType* g = f.cFFp(e);
+    const int ge = f.cFFi(e);
+    return g->cV(ge) == f.cV((e + 1) % 3) && g->cV((ge + 1) % 3) == f.cV(e);
+  }
+  /// Parity of the crossings of the ray origin + t dir (t > 0) with the faces; ambiguous when the ray
+  /// grazes an edge or a vertex (then another direction is tried).
+  static bool RayParity(const MeshType& m, const std::vector<Index>& faces, const Point& origin,
+                        const Point& dir, bool& ambiguous) {
+    ambiguous = false;
+    bool odd = false;
+    for (Index f : faces) {
+      const Tri t = FaceTri(m, m.face[f]);
+      const Point a = PositionOf(&m.vert[t[0]]), b = PositionOf(&m.vert[t[1]]), c = PositionOf(&m.vert[t[2]]);
+      const Point e1 = b - a, e2 = c - a;
+      const Point q = dir ^ e2;
+      const double det = e1 * q;
+      const double scale = e1.Norm() * e2.Norm();
+      if (std::fabs(det) <= 1e-12 * scale) continue; // parallel: cannot cross transversally
+      const double inv = 1.0 / det;
+      const Point s = origin - a;
+      const double u = (s * q) * inv;
+      if (u < -1e-9 || u > 1 + 1e-9) continue;
+      const Point rr = s ^ e1;
+      const double v = (dir * rr) * inv;
+      if (v < -1e-9 || u + v > 1 + 1e-9) continue;
+      const double t0 = (e2 * rr) * inv;
+      if (t0 <= 0) continue;
+      if (u < 1e-9 || v < 1e-9 || u + v > 1 - 1e-9) {
+        ambiguous = true;
+        return false;
+      }
+      odd = !odd;
+    }
+    return odd;
+  }
+};
+
+} // namespace clean
+} // namespace molremesh
