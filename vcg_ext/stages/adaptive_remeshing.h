@@ -308,6 +308,41 @@ private:
                                     const std::vector<std::array<Index, 3>>& tris,
                                     const std::vector<std::uint32_t>& measure, int threads,
                                     std::vector<double>& distance, std::vector<long long>& hitFace);
+  /// The lengths of one SnapToInputVertices call (params' factors times L0).
+  struct SnapLimits {
+    double L0;             ///< target edge length
+    double tolerance;      ///< input vertices farther than this from the mesh are snapped to
+    double maxMove;        ///< no corner moves farther than this
+    double looseTolerance; ///< beyond this, a refused full snap is retried with the loose guards
+  };
+  /// The reference vertices to measure anew in a round after the first: those that were far, and
+  /// those whose closest face has a corner moved by the round before. For any other, that face is
+  /// unchanged, so its distance can only have dropped and it was within the tolerance already: the
+  /// far points and their distances are then exactly what measuring every vertex would give.
+  static void SelectSnapMeasurements(MeshType& m, const std::vector<std::size_t>& movedLastRound,
+                                     const std::vector<double>& distance,
+                                     const std::vector<long long>& hitFace,
+                                     const std::vector<std::size_t>& faceOf, double tolerance,
+                                     std::vector<std::uint32_t>& measure);
+  /// The reference vertices farther than tolerance from the mesh, as (-distance, index), farthest
+  /// first; in the partial phase only those within partialShare of the farthest distance.
+  static std::vector<std::pair<double, std::uint32_t>> FarInputVertices(const std::vector<double>& distance,
+                                                                        const std::vector<long long>& hitFace,
+                                                                        double tolerance, bool partialPhase,
+                                                                        double partialShare);
+  /// Snaps one corner of face fi (the closest face of reference vertex i, distanceBefore away when
+  /// measured) towards i, nearest corner first, trying each of `fractions` of the way in turn.
+  /// Records the moved vertex in `snapped` and `movedLastRound`. Returns whether a corner moved.
+  static bool SnapInputVertex(Ops& ops, const Params& params, const SnapLimits& limits,
+                              const std::vector<double>& fractions, std::uint32_t i, double distanceBefore,
+                              std::size_t fi, std::vector<std::uint8_t>& snapped,
+                              std::vector<std::size_t>& movedLastRound);
+  /// One guarded move of v towards input vertex i at p: the whole way (with the loose guards as a
+  /// fallback beyond looseTolerance), or `fraction` of the way when that brings v's star clearly
+  /// closer to p than its face now is (now2: squared distance). Returns whether v moved.
+  static bool TrySnapMove(Ops& ops, const Params& params, const SnapLimits& limits, VertexPointer v,
+                          std::uint32_t i, const Point& p, double fraction, double distanceBefore,
+                          double now2);
 };
 
 // ------------------------------------------------------------------------------------------------
@@ -1208,27 +1243,23 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
   MeshType& m = ops.Mesh();
   const Reference& ref = ops.GetReference();
   const double L0 = ops.TargetEdgeLength();
-  const double tolerance = params.snapTolerance * L0, maxMove = params.snapMaxMove * L0;
-  const double looseTolerance = params.snapLooseTolerance * L0;
+  const SnapLimits limits{L0, params.snapTolerance * L0, params.snapMaxMove * L0,
+                          params.snapLooseTolerance * L0};
+  const double tolerance = limits.tolerance;
   snapped.resize(m.vert.size(), 0);
   if (!(tolerance > 0) || params.snapRounds <= 0 || ref.VertexCount() == 0) return 0;
   threads = ResolveThreadCount(threads);
   ops.VerifyPendingMoves(threads);
   const LocalOpsGuards saved = ops.Guards();
-  const LocalOpsGuards &snapGuards = params.snapGuards, &looseGuards = params.snapLooseGuards;
-  ops.SetGuards(snapGuards);
+  ops.SetGuards(params.snapGuards);
   std::size_t moves = 0;
   std::vector<double> distance(ref.VertexCount());
   std::vector<long long> hitFace(ref.VertexCount());
   const std::vector<double> kFullFraction{1.0},
-      kPartialFractions{0.75, 0.5};   // of the way to the input vertex
-  constexpr double partialGain = 0.8; // a partial move must cut the distance by 20 % at least
-  bool partialPhase = false;          // after the full snaps stop: part of the way
-  // Reference vertices whose distance is measured (anew) in a round: all of them in the first.
-  // Later, only those that were far, and those whose closest face has a corner moved by the
-  // round before: for any other, that face is unchanged, so its distance can only have dropped
-  // and it was within the tolerance already. The far points and their distances are then exactly
-  // what measuring every vertex would give.
+      kPartialFractions{0.75, 0.5}; // of the way to the input vertex
+  bool partialPhase = false;        // after the full snaps stop: part of the way
+  // Reference vertices whose distance is measured (anew) in a round: all of them in the first,
+  // later those SelectSnapMeasurements picks.
   std::vector<std::uint32_t> measure(ref.VertexCount());
   std::iota(measure.begin(), measure.end(), std::uint32_t(0));
   // The mesh's triangles, the same every round (the rounds only move vertices), so a hit face
@@ -1238,86 +1269,17 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
   CollectSnapTriangles(m, tris, faceOf);
   for (int round = 0; round < params.snapRounds + 1 && !tris.empty(); ++round) {
     if (round > 0) {
-      std::vector<std::uint8_t> touched(m.face.size(), 0);
-      for (const std::size_t vi : movedLastRound)
-        for (vcg::face::VFIterator<FaceType> it(&m.vert[vi]); !it.End(); ++it)
-          touched[std::size_t(vcg::tri::Index(m, it.F()))] = 1;
-      measure.clear();
-      for (std::size_t i = 0; i < distance.size(); ++i)
-        if (distance[i] > tolerance || hitFace[i] < 0 || touched[faceOf[std::size_t(hitFace[i])]])
-          measure.push_back(std::uint32_t(i));
+      SelectSnapMeasurements(m, movedLastRound, distance, hitFace, faceOf, tolerance, measure);
       movedLastRound.clear();
     }
     MeasureInputDistances(m, ref, tris, measure, threads, distance, hitFace);
-    std::vector<std::pair<double, std::uint32_t>> far;
-    for (std::size_t i = 0; i < distance.size(); ++i)
-      if (distance[i] > tolerance && hitFace[i] >= 0) far.emplace_back(-distance[i], std::uint32_t(i));
-    std::sort(far.begin(), far.end());
-    // The partial moves are a compromise worth making only where the largest distances are.
-    if (partialPhase && !far.empty()) {
-      const double keep = -far.front().first * params.snapPartialShare;
-      while (!far.empty() && -far.back().first < keep) far.pop_back();
-    }
+    const std::vector<std::pair<double, std::uint32_t>> far =
+        FarInputVertices(distance, hitFace, tolerance, partialPhase, params.snapPartialShare);
     std::size_t roundMoves = 0;
-    for (const auto& [negative, i] : far) {
-      const std::size_t fi = faceOf[std::size_t(hitFace[i])];
-      if (fi >= m.face.size() || m.face[fi].IsD()) continue;
-      const Point p = ref.Vertex(i);
-      FaceType& f = m.face[fi];
-      Point closest;
-      const double now2 = distance_detail::TriangleDistance2(p, PositionOf(f.cV(0)), PositionOf(f.cV(1)),
-                                                             PositionOf(f.cV(2)), closest);
-      if (!(now2 > tolerance * tolerance)) continue; // an earlier move fixed it
-      std::array<std::pair<double, int>, 3> order;
-      for (int k = 0; k < 3; ++k) order[k] = {(PositionOf(f.cV(k)) - p).SquaredNorm(), k};
-      std::sort(order.begin(), order.end());
-      // Onto the input vertex first; where the angle guards refuse that on every corner, part of
-      // the way (the cusp is then cut by a shorter chord), when that brings the star of the
-      // corner clearly closer to the input vertex.
-      bool moved = false;
-      // The partial round does not retry the full snaps the rounds before it refused.
-      for (const double fraction : partialPhase ? kPartialFractions : kFullFraction) {
-        for (const auto& [d2, k] : order) {
-          VertexPointer v = f.V(k);
-          const std::size_t vi = std::size_t(vcg::tri::Index(m, v));
-          if (vi < snapped.size() && snapped[vi]) continue;
-          if (d2 > maxMove * maxMove || ops.IsLocked(*v) || ops.IsBoundaryVertex(*v)) continue;
-          bool okMove = false;
-          if (fraction == 1.0) {
-            okMove = ops.MoveVertexTo(v, p, ref.VertexFace(i));
-            if (!okMove && -negative > looseTolerance) {
-              ops.SetGuards(looseGuards);
-              okMove = ops.MoveVertexTo(v, p, ref.VertexFace(i));
-              ops.SetGuards(snapGuards);
-            }
-          } else {
-            if (!SnapCalmAround(snapGuards, v)) continue;
-            const Point start = PositionOf(v);
-            const SurfaceProjection target = ref.Project(start + (p - start) * fraction, ops.Footpoint(*v));
-            const double reached = target.ok() ? SnapStarDistance(snapGuards, v, target.point, p)
-                                               : std::numeric_limits<double>::infinity();
-            if (!(reached < partialGain * std::sqrt(now2))) continue;
-            // Not at the expense of another input point: none may end farther than p now is.
-            LocalOpsGuards partialGuards = snapGuards;
-            partialGuards.maxInputDistanceFactor = std::max(reached, tolerance) / L0;
-            // Input points farther than L0 / 2 from the moved faces are held by other faces.
-            partialGuards.inputReachFactor = 0.5;
-            ops.SetGuards(partialGuards);
-            okMove = ops.MoveVertexTo(v, target.point, target.face);
-            ops.SetGuards(snapGuards);
-          }
-          if (okMove) {
-            if (vi >= snapped.size()) snapped.resize(vi + 1, 0);
-            snapped[vi] = 1;
-            movedLastRound.push_back(vi);
-            ++roundMoves;
-            moved = true;
-            break;
-          }
-        }
-        if (moved) break;
-      }
-    }
+    for (const auto& [negative, i] : far)
+      if (SnapInputVertex(ops, params, limits, partialPhase ? kPartialFractions : kFullFraction, i, -negative,
+                          faceOf[std::size_t(hitFace[i])], snapped, movedLastRound))
+        ++roundMoves;
     moves += roundMoves;
     // One partial round once the full snaps stall (under 1 % of the far points moved) or the
     // rounds are spent.
@@ -1326,6 +1288,108 @@ std::size_t AdaptiveRemeshing<MeshType>::SnapToInputVertices(Ops& ops, const Par
   }
   ops.SetGuards(saved);
   return moves;
+}
+
+template <class MeshType>
+void AdaptiveRemeshing<MeshType>::SelectSnapMeasurements(
+    MeshType& m, const std::vector<std::size_t>& movedLastRound, const std::vector<double>& distance,
+    const std::vector<long long>& hitFace, const std::vector<std::size_t>& faceOf, double tolerance,
+    std::vector<std::uint32_t>& measure) {
+  std::vector<std::uint8_t> touched(m.face.size(), 0);
+  for (const std::size_t vi : movedLastRound)
+    for (vcg::face::VFIterator<FaceType> it(&m.vert[vi]); !it.End(); ++it)
+      touched[std::size_t(vcg::tri::Index(m, it.F()))] = 1;
+  measure.clear();
+  for (std::size_t i = 0; i < distance.size(); ++i)
+    if (distance[i] > tolerance || hitFace[i] < 0 || touched[faceOf[std::size_t(hitFace[i])]])
+      measure.push_back(std::uint32_t(i));
+}
+
+template <class MeshType>
+std::vector<std::pair<double, std::uint32_t>>
+AdaptiveRemeshing<MeshType>::FarInputVertices(const std::vector<double>& distance,
+                                              const std::vector<long long>& hitFace, double tolerance,
+                                              bool partialPhase, double partialShare) {
+  std::vector<std::pair<double, std::uint32_t>> far;
+  for (std::size_t i = 0; i < distance.size(); ++i)
+    if (distance[i] > tolerance && hitFace[i] >= 0) far.emplace_back(-distance[i], std::uint32_t(i));
+  std::sort(far.begin(), far.end());
+  // The partial moves are a compromise worth making only where the largest distances are.
+  if (partialPhase && !far.empty()) {
+    const double keep = -far.front().first * partialShare;
+    while (!far.empty() && -far.back().first < keep) far.pop_back();
+  }
+  return far;
+}
+
+template <class MeshType>
+bool AdaptiveRemeshing<MeshType>::SnapInputVertex(Ops& ops, const Params& params, const SnapLimits& limits,
+                                                  const std::vector<double>& fractions, std::uint32_t i,
+                                                  double distanceBefore, std::size_t fi,
+                                                  std::vector<std::uint8_t>& snapped,
+                                                  std::vector<std::size_t>& movedLastRound) {
+  MeshType& m = ops.Mesh();
+  if (fi >= m.face.size() || m.face[fi].IsD()) return false;
+  const Point p = ops.GetReference().Vertex(i);
+  FaceType& f = m.face[fi];
+  Point closest;
+  const double now2 = distance_detail::TriangleDistance2(p, PositionOf(f.cV(0)), PositionOf(f.cV(1)),
+                                                         PositionOf(f.cV(2)), closest);
+  if (!(now2 > limits.tolerance * limits.tolerance)) return false; // an earlier move fixed it
+  std::array<std::pair<double, int>, 3> order;
+  for (int k = 0; k < 3; ++k) order[k] = {(PositionOf(f.cV(k)) - p).SquaredNorm(), k};
+  std::sort(order.begin(), order.end());
+  // Onto the input vertex first; where the angle guards refuse that on every corner, part of
+  // the way (the cusp is then cut by a shorter chord), when that brings the star of the
+  // corner clearly closer to the input vertex. The partial round does not retry the full snaps
+  // the rounds before it refused.
+  for (const double fraction : fractions) {
+    for (const auto& [d2, k] : order) {
+      VertexPointer v = f.V(k);
+      const std::size_t vi = std::size_t(vcg::tri::Index(m, v));
+      if (vi < snapped.size() && snapped[vi]) continue;
+      if (d2 > limits.maxMove * limits.maxMove || ops.IsLocked(*v) || ops.IsBoundaryVertex(*v)) continue;
+      if (!TrySnapMove(ops, params, limits, v, i, p, fraction, distanceBefore, now2)) continue;
+      if (vi >= snapped.size()) snapped.resize(vi + 1, 0);
+      snapped[vi] = 1;
+      movedLastRound.push_back(vi);
+      return true;
+    }
+  }
+  return false;
+}
+
+template <class MeshType>
+bool AdaptiveRemeshing<MeshType>::TrySnapMove(Ops& ops, const Params& params, const SnapLimits& limits,
+                                              VertexPointer v, std::uint32_t i, const Point& p,
+                                              double fraction, double distanceBefore, double now2) {
+  const Reference& ref = ops.GetReference();
+  const LocalOpsGuards& snapGuards = params.snapGuards;
+  if (fraction == 1.0) {
+    bool okMove = ops.MoveVertexTo(v, p, ref.VertexFace(i));
+    if (!okMove && distanceBefore > limits.looseTolerance) {
+      ops.SetGuards(params.snapLooseGuards);
+      okMove = ops.MoveVertexTo(v, p, ref.VertexFace(i));
+      ops.SetGuards(snapGuards);
+    }
+    return okMove;
+  }
+  constexpr double partialGain = 0.8; // a partial move must cut the distance by 20 % at least
+  if (!SnapCalmAround(snapGuards, v)) return false;
+  const Point start = PositionOf(v);
+  const SurfaceProjection target = ref.Project(start + (p - start) * fraction, ops.Footpoint(*v));
+  const double reached = target.ok() ? SnapStarDistance(snapGuards, v, target.point, p)
+                                     : std::numeric_limits<double>::infinity();
+  if (!(reached < partialGain * std::sqrt(now2))) return false;
+  // Not at the expense of another input point: none may end farther than p now is.
+  LocalOpsGuards partialGuards = snapGuards;
+  partialGuards.maxInputDistanceFactor = std::max(reached, limits.tolerance) / limits.L0;
+  // Input points farther than L0 / 2 from the moved faces are held by other faces.
+  partialGuards.inputReachFactor = 0.5;
+  ops.SetGuards(partialGuards);
+  const bool okMove = ops.MoveVertexTo(v, target.point, target.face);
+  ops.SetGuards(snapGuards);
+  return okMove;
 }
 
 template <class MeshType>
