@@ -8,6 +8,8 @@
 #include <QPluginLoader>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
 #include <set>
 #include <sstream>
 #include <string>
@@ -522,6 +524,91 @@ TEST_F(PluginTest, RebuildingFiltersPutTheResultInANewLayerUnlessTurnedOff) {
   EXPECT_EQ(inPlace.faceIndices, cleaned.faceIndices);
   document.delMesh(result);
   document.delMesh(mm);
+}
+
+namespace {
+/// What MeshLab's progress bar was given, and when.
+struct ProgressRecord {
+  double seconds;
+  int percent;
+  std::string label;
+};
+std::vector<ProgressRecord> progressRecords;
+std::chrono::steady_clock::time_point progressStart;
+bool RecordProgress(const int percent, const char* label) {
+  const std::chrono::duration<double> t = std::chrono::steady_clock::now() - progressStart;
+  progressRecords.push_back({t.count(), percent, label});
+  return true;
+}
+
+/// Runs the Full Pipeline on a shared mesh with a recording progress callback; returns the
+/// longest time the bar's percentage stood still.
+double LongestProgressPause(MeshFilterInterface* plugin, MeshDocument& document, const std::string& mesh) {
+  MeshModel* mm = document.addNewMesh(QString::fromStdString(mesh), "layer");
+  int mask = 0;
+  vcg::tri::io::ImporterPLY<CMeshO>::Open(mm->cm, SharedMesh(mesh).c_str(), mask);
+  QAction* action = FindFilter(plugin, kFull);
+  RichParameterList parameters;
+  plugin->initParameterSet(action, *mm, parameters);
+  progressRecords.clear();
+  progressStart = std::chrono::steady_clock::now();
+  EXPECT_TRUE(plugin->applyFilter(action, document, parameters, RecordProgress))
+      << plugin->errorMsg().toStdString();
+  const std::chrono::duration<double> total = std::chrono::steady_clock::now() - progressStart;
+  double longest = 0, last = 0;
+  int lastPercent = -1;
+  for (const auto& r : progressRecords) {
+    if (r.percent == lastPercent) continue;
+    longest = std::max(longest, r.seconds - last);
+    last = r.seconds;
+    lastPercent = r.percent;
+  }
+  longest = std::max(longest, total.count() - last);
+  std::printf("[ figures  ] %s: %zu progress calls in %.1f s, the percentage stood still at most %.2f s\n",
+              mesh.c_str(), progressRecords.size(), total.count(), longest);
+  return longest;
+}
+} // namespace
+
+// The bar runs once over the whole run, never backwards, and names the stage and its step.
+TEST_F(PluginTest, ProgressNamesTheStageAndStepAndNeverGoesBack) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
+  LongestProgressPause(plugin, document, "bpti_1bpi_msms.ply");
+  ASSERT_FALSE(progressRecords.empty());
+  for (std::size_t i = 1; i < progressRecords.size(); ++i)
+    EXPECT_GE(progressRecords[i].percent, progressRecords[i - 1].percent) << progressRecords[i].label;
+  EXPECT_LE(progressRecords.back().percent, 100);
+  std::set<std::string> labels;
+  for (const auto& r : progressRecords) labels.insert(r.label);
+  EXPECT_EQ(labels.count("clean (1/9)"), 1u);
+  EXPECT_EQ(labels.count("cvt (2/9): Lloyd iteration 17/42"), 1u);
+  EXPECT_EQ(labels.count("polish (9/9)"), 1u);
+  EXPECT_EQ(labels.count("rar (5/9): sizing field"), 1u);
+}
+
+// The figure of the largest shared mesh (about 90 s on two busy cores): run by hand with
+// --gtest_also_run_disabled_tests.
+TEST_F(PluginTest, DISABLED_ProgressAdvancesOnTheLargestSharedMesh) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
+  EXPECT_LE(LongestProgressPause(plugin, document, "hivprotease_1HPV_edtsurf_mc.ply"), 10.0);
+  std::size_t patchSteps = 0;
+  for (const auto& r : progressRecords) patchSteps += r.label.rfind("rar (5/9): patch ", 0) == 0;
+  EXPECT_GT(patchSteps, 10u) << "the patches of RAR report as they finish";
+  // Where the bar stood still longest, for the record.
+  double last = 0;
+  int lastPercent = -1;
+  std::string lastLabel;
+  std::vector<std::pair<double, std::string>> pauses;
+  for (const auto& r : progressRecords) {
+    if (r.percent == lastPercent) continue;
+    pauses.emplace_back(r.seconds - last, lastLabel);
+    last = r.seconds;
+    lastPercent = r.percent;
+    lastLabel = r.label;
+  }
+  std::sort(pauses.rbegin(), pauses.rend());
+  for (std::size_t i = 0; i < std::min<std::size_t>(6, pauses.size()); ++i)
+    std::printf("[ figures  ] stood still %.2f s after \"%s\"\n", pauses[i].first, pauses[i].second.c_str());
 }
 
 int main(int argc, char** argv) {
