@@ -226,7 +226,8 @@ QString FilterMolRemeshPlugin::filterInfo(FilterIDType filter) const {
            "color=#cc79a7><b>reddish purple</b></font> both, light gray the rest; the view shows face colors "
            "right away. Irregular vertices (interior valence not 5, 6 or 7) get their own colors in the "
            "per-vertex color, <font color=#009e73><b>bluish green</b></font> below 5 and <font "
-           "color=#c8b400><b>yellow</b></font> above 7 (Render &gt; Color &gt; Per Vertex shows them). The "
+           "color=#c8b400><b>yellow</b></font> above 7 (Color &gt; Vert in the layer render settings shows "
+           "them). The "
            "log "
            "gives the legend with the counts. Per-face quality = the smallest angle (degrees), per-vertex "
            "quality = the valence. Save with vertex/face color and quality (meshlabserver -m vc fc vq fq) to "
@@ -293,7 +294,8 @@ QString FilterMolRemeshPlugin::filterInfo(FilterIDType filter) const {
            "elimination, obtuse reduction, local smoothing, and a final valence pass that may not add an "
            "obtuse "
            "face (polish, beyond the paper). Logs the quality table before, after and per "
-           "stage with its time. Transactional: if a stage fails, the layer is left as it was.";
+           "stage with its time. The result goes to a new layer (the input kept, hidden) unless that is "
+           "turned off; if a stage fails, the document is left as it was.";
   }
   return QString();
 }
@@ -578,7 +580,8 @@ bool FilterMolRemeshPlugin::colorBadElements(MeshModel& mm, const RichParameterL
   if (RichLog()) {
     Log("%s", molremesh::FormatColorLegendHtml("Face colors (shown now)", faces).c_str());
     Log("%s",
-        molremesh::FormatColorLegendHtml("Vertex colors (Render > Color > Per Vertex)", vertices).c_str());
+        molremesh::FormatColorLegendHtml("Vertex colors (layer render settings: Color > Vert)", vertices)
+            .c_str());
   } else {
     Log("Irregular vertices: %zu (valence below 5, bluish green: %zu; above 7, yellow: %zu)",
         counts.irregularVertices, counts.lowValenceVertices, counts.highValenceVertices);
@@ -815,9 +818,11 @@ bool FilterMolRemeshPlugin::runStages(MeshDocument& md, MeshModel& mm, const std
   if (newLayer) {
     // The input layer is kept as it was, only hidden so that the result is seen.
     const QString name = QFileInfo(mm.label()).completeBaseName() + " " + layerSuffix;
+    // Hidden before the new layer is added: MeshLab's views take the layers' visibility when the
+    // document's layers change.
+    mm.visible = false;
     target = md.addNewMesh("", name, true);
     target->cm.Tr = mm.cm.Tr;
-    mm.visible = false;
     Log("%s", qUtf8Printable("Result in the new layer \"" + target->label() + "\"; \"" + mm.label() +
                              "\" is unchanged (hidden)"));
   } else {
