@@ -755,9 +755,10 @@ void FilterMolRemeshPlugin::logRun(const molremesh::PipelineResult& result) {
     // The log pane is narrow: each stage's summary as one paragraph, the full table before and
     // after only, and the per-stage figures in a short table.
     for (const auto& stage : result.stages) {
-      std::string paragraph = stage.summary;
-      std::replace(paragraph.begin(), paragraph.end(), '\n', ';');
-      while (!paragraph.empty() && paragraph.back() == ';') paragraph.pop_back();
+      std::string paragraph;
+      std::istringstream lines(stage.summary);
+      for (std::string line; std::getline(lines, line);)
+        if (!line.empty()) paragraph += (paragraph.empty() ? "" : "; ") + line;
       Log("%s",
           ("<b>" + molremesh::HtmlEscape(stage.name) + "</b>: " + molremesh::HtmlEscape(paragraph)).c_str());
     }

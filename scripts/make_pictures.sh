@@ -14,6 +14,7 @@
 #   OUT_DIR  where the PNGs go (default: docs/images)
 #   ZOOM     mouse-wheel steps into the default MeshLab view (default: 2)
 #   WIDTH    width of the saved PNGs in pixels (default: 640)
+#   PARTS    which pictures: "meshes", "gui" or both (default: "meshes gui")
 #
 # For each mesh and for its input and remeshed output, two pictures:
 #   <mesh>_<input|remeshed>_faces.png     per-face color: obtuse vermillion, angle < 30 deg blue, both
@@ -139,6 +140,13 @@ if [ "${1:-}" = "--gui" ]; then
   open_filter "Full Pipeline"
   import -window root -crop "${WIDTH}x${HEIGHT}+0+0" +repage "$out/gui_full_pipeline_dialog.png"
   apply_filter
+  # Done when the new layer is there: the second row of the layer list turns to the selection color.
+  for _ in $(seq 1 900); do
+    pixel=$(import -window root -crop 1x1+1300+145 +repage txt:- | tail -1 | grep -o '#[0-9A-F]\{6\}' || true)
+    [ -n "$pixel" ] && [ "$pixel" != "#FFFFFF" ] && break
+    sleep 2
+  done
+  sleep 3
   # A taller log pane: the layer dock floated (double click on its title) and stretched down the
   # tall screen below the main window; the log takes a third of the extra height.
   xdotool mousemove 1300 78 click --repeat 2 --delay 120 1
@@ -232,7 +240,9 @@ MLP
   echo "make_pictures: $png ($(du -k "$png" | cut -f1) KB)"
 }
 
+parts=${PARTS:-meshes gui}
 for mesh in "${meshes[@]}"; do
+  [[ $parts == *meshes* ]] || break
   input=$data/$mesh.ply
   [ -f "$input" ] || { echo "make_pictures: $input not found" >&2; exit 1; }
   remeshed=$work/${mesh}_remeshed_raw.ply
@@ -250,6 +260,7 @@ for mesh in "${meshes[@]}"; do
   done
 done
 
+[[ $parts == *gui* ]] || exit 0
 # The plugin in the GUI: a private copy of MeshLab whose plugins/ folder holds the system plugins
 # and the build's (MeshLab looks for plugins beside its binary), on the first mesh.
 gui=$work/gui
