@@ -6,7 +6,12 @@
 
 #include <common/interfaces.h>
 
+#include <string>
 #include <vector>
+
+namespace molremesh {
+struct PipelineResult;
+}
 
 class FilterMolRemeshPlugin : public QObject, public MeshFilterInterface {
   Q_OBJECT
@@ -46,10 +51,17 @@ private:
   bool qualityReport(MeshModel& mm, const RichParameterList& parameters);
   bool colorBadElements(MeshModel& mm, const RichParameterList& parameters);
   bool randomSegmentation(MeshModel& mm, const RichParameterList& parameters);
-  /// Runs pipeline stages on a double-precision copy of the layer and writes the result back
-  /// only when every stage succeeded: a failure leaves the layer exactly as it was.
-  bool runStages(MeshModel& mm, const std::vector<int>& stages, const RichParameterList& parameters,
-                 vcg::CallBackPos* cb);
+  /// Runs pipeline stages on a double-precision copy of the layer and, only when every stage
+  /// succeeded, puts the result into a new layer "<name> <layerSuffix>" (parameter newLayer on) or
+  /// into the layer itself: a failure leaves the document exactly as it was.
+  bool runStages(MeshDocument& md, MeshModel& mm, const std::vector<int>& stages,
+                 const RichParameterList& parameters, vcg::CallBackPos* cb, const char* layerSuffix);
+  /// The stages' summaries and the quality tables of a run, as rich text in MeshLab's GUI.
+  void logRun(const molremesh::PipelineResult& result);
+  /// A plain-text block: one <pre> entry in MeshLab's GUI, one entry per line elsewhere.
+  void logText(const std::string& text);
+  /// Whether the log is shown as rich text (MeshLab's GUI), not printed (meshlabserver).
+  static bool RichLog();
   /// Sets errorMessage (and logs it, so meshlabserver users see the reason too); returns false.
   bool fail(const QString& message);
 };

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Regenerates the README pictures in docs/images/: two shared meshes before and after remeshing,
-# colored by `molremesh color`, shown in Debian's real MeshLab GUI under Xvfb and captured with
-# ImageMagick's `import -window root`.
+# colored by the plugin's Color Bad Elements (through the build's sandboxed meshlabserver), shown in
+# Debian's real MeshLab GUI under Xvfb and captured with ImageMagick's `import -window root`; then the
+# plugin in the GUI itself: the colors and legend right after Color Bad Elements, the Full Pipeline
+# dialog, and the log with the new layer after it ran.
 #
 # usage: scripts/make_pictures.sh [BUILD_DIR]          (default BUILD_DIR: build)
 # environment:
@@ -12,14 +14,19 @@
 #   OUT_DIR  where the PNGs go (default: docs/images)
 #   ZOOM     mouse-wheel steps into the default MeshLab view (default: 2)
 #   WIDTH    width of the saved PNGs in pixels (default: 640)
+#   PARTS    which pictures: "meshes", "gui" or both (default: "meshes gui")
 #
 # For each mesh and for its input and remeshed output, two pictures:
-#   <mesh>_<input|remeshed>_faces.png     per-face color: obtuse red, angle < 30 deg blue, both
-#                                         magenta, others gray (flat shading)
-#   <mesh>_<input|remeshed>_vertices.png  per-vertex color: irregular interior vertices (valence not
-#                                         5, 6 or 7) red, others gray
+#   <mesh>_<input|remeshed>_faces.png     per-face color: obtuse vermillion, angle < 30 deg blue, both
+#                                         reddish purple, others light gray (flat shading)
+#   <mesh>_<input|remeshed>_vertices.png  per-vertex color: interior vertices of valence below 5 bluish
+#                                         green, above 7 yellow, others light gray
 # MeshLab opens a generated .mlp project whose RenderingOption selects the color mode, the
 # layer dialog, trackball and info panel are hidden with xdotool, and MeshLab is closed again.
+# Then, on the first mesh, a private copy of the MeshLab GUI that loads the build's plugin (1600x1000):
+#   gui_color_bad_elements.png  the view and the legend in the log right after Color Bad Elements
+#   gui_full_pipeline_dialog.png the Full Pipeline dialog with its pre-filled values
+#   gui_full_pipeline_log.png   the layers and the log (aligned tables) after the Full Pipeline ran
 set -euo pipefail
 
 # Inside the virtual display (the script calls itself through xvfb-run): capture one project.
@@ -79,6 +86,85 @@ if [ "${1:-}" = "--capture" ]; then
   exit 0
 fi
 
+# Inside the virtual display: the plugin in a MeshLab GUI that loads it (usage: --gui MESHLAB MESH OUT).
+if [ "${1:-}" = "--gui" ]; then
+  meshlab_bin=$2 mesh=$3 out=$4
+  "$meshlab_bin" "$mesh" >"$out/gui.meshlab.log" 2>&1 &
+  pid=$!
+  win=
+  for _ in $(seq 1 120); do
+    win=$(xdotool search --onlyvisible --name '^MeshLab ' 2>/dev/null | head -1 || true)
+    [ -n "$win" ] && break
+    sleep 0.5
+  done
+  [ -n "$win" ] || { echo "make_pictures: no MeshLab window after 60 s" >&2; kill "$pid"; exit 1; }
+  for _ in $(seq 1 120); do
+    grep -q 'All files opened\|Opened mesh' "$out/gui.meshlab.log" && break
+    sleep 0.5
+  done
+  sleep 3
+  xdotool windowmove "$win" 0 0 windowsize "$win" 1600 1000
+  sleep 2
+  cpu() { awk '{print $14 + $15}' "/proc/$pid/stat"; }
+  # Opens a filter's dialog through MeshLab's filter search (ctrl+f), the first hit.
+  open_filter() {
+    xdotool windowfocus --sync "$win" 2>/dev/null || true
+    xdotool key --window "$win" ctrl+f
+    sleep 1
+    xdotool type --delay 40 "$1"
+    sleep 1.5
+    xdotool key Down
+    sleep 0.5
+    xdotool key Return
+    sleep 3
+    dialog=$(xdotool search --onlyvisible --name "Molecular Remesh: $1" | head -1)
+    [ -n "$dialog" ] || { echo "make_pictures: no dialog of $1" >&2; kill "$pid"; exit 1; }
+    eval "$(xdotool getwindowgeometry --shell "$dialog")"
+  }
+  # Clicks the dialog's Apply (bottom right) and waits until MeshLab stops working.
+  apply_filter() {
+    xdotool mousemove $((WIDTH * 74 / 100)) $((HEIGHT - 22)) click 1
+    local before
+    sleep 3
+    for _ in $(seq 1 600); do
+      before=$(cpu)
+      sleep 2
+      [ "$(cpu)" -le $((before + 20)) ] && break
+    done
+    sleep 1
+  }
+  open_filter "Color Bad Elements"
+  apply_filter
+  xdotool mousemove 1599 999
+  import -window root "$out/gui_color_bad_elements.png"
+  open_filter "Full Pipeline"
+  import -window root -crop "${WIDTH}x${HEIGHT}+0+0" +repage "$out/gui_full_pipeline_dialog.png"
+  apply_filter
+  # Done when the new layer is there: the second row of the layer list turns to the selection color.
+  for _ in $(seq 1 900); do
+    pixel=$(import -window root -crop 1x1+1300+145 +repage txt:- | tail -1 | grep -o '#[0-9A-F]\{6\}' || true)
+    [ -n "$pixel" ] && [ "$pixel" != "#FFFFFF" ] && break
+    sleep 2
+  done
+  sleep 3
+  # A taller log pane: the layer dock floated (double click on its title) and stretched down the
+  # tall screen below the main window; the log takes a third of the extra height.
+  xdotool mousemove 1300 78 click --repeat 2 --delay 120 1
+  sleep 2
+  dock=$(xdotool search --onlyvisible --name '^Project_1$' | head -1)
+  [ -n "$dock" ] && xdotool windowmove "$dock" 1000 0 windowsize "$dock" 600 2600
+  sleep 2
+  xdotool mousemove 1599 2599
+  sleep 1
+  import -window root "$out/gui_full_pipeline_log.png"
+  xdotool key ctrl+q 2>/dev/null || true
+  sleep 2
+  xdotool key Escape 2>/dev/null || true
+  kill "$pid" 2>/dev/null || true
+  wait "$pid" 2>/dev/null || true
+  exit 0
+fi
+
 repo=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-${BUILD_DIR:-$repo/build}}
 cli=$build/cli/molremesh
@@ -96,6 +182,14 @@ for tool in meshlab xvfb-run xdotool import convert; do
   }
 done
 [ -x "$cli" ] || { echo "make_pictures: $cli not built (cmake --build $build --target molremesh)" >&2; exit 1; }
+server=$build/meshlabserver/run_meshlabserver.sh
+plugin=$build/plugins/libfilter_molremesh.so
+[ -x "$server" ] && [ -f "$plugin" ] || {
+  echo "make_pictures: the plugin and its meshlabserver sandbox are not built (cmake --build $build" \
+    "--target filter_molremesh meshlabserver_sandbox)" >&2
+  exit 1
+}
+libdir=${MESHLAB_LIB_DIR:-$(sed -n 's/^export LD_LIBRARY_PATH="\([^$]*\)\$.*/\1/p' "$server")}
 
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -146,16 +240,53 @@ MLP
   echo "make_pictures: $png ($(du -k "$png" | cut -f1) KB)"
 }
 
+parts=${PARTS:-meshes gui}
 for mesh in "${meshes[@]}"; do
+  [[ $parts == *meshes* ]] || break
   input=$data/$mesh.ply
   [ -f "$input" ] || { echo "make_pictures: $input not found" >&2; exit 1; }
   remeshed=$work/${mesh}_remeshed_raw.ply
   echo "make_pictures: molremesh remesh $mesh.ply (stages: ${stages:-all})"
   "$cli" remesh --quiet "$input" "$remeshed" ${stages:+--stages "$stages"} >"$work/$mesh.remesh.txt"
-  "$cli" color "$input" "$work/${mesh}_input.ply" >/dev/null
-  "$cli" color "$remeshed" "$work/${mesh}_remeshed.ply" >/dev/null
+  for state in input remeshed; do
+    source_ply=$input
+    [ "$state" = remeshed ] && source_ply=$remeshed
+    "$server" -i "$source_ply" -o "$work/${mesh}_$state.ply" -m vc fc vq fq \
+      -s "$repo/meshlabserver_scripts/color_bad_elements.mlx" >"$work/$mesh.$state.color.txt" 2>&1
+  done
   for state in input remeshed; do
     capture "$work/${mesh}_$state.ply" "$faces_mode" "$out/${mesh}_${state}_faces.png"
     capture "$work/${mesh}_$state.ply" "$vertices_mode" "$out/${mesh}_${state}_vertices.png"
   done
+done
+
+[[ $parts == *gui* ]] || exit 0
+# The plugin in the GUI: a private copy of MeshLab whose plugins/ folder holds the system plugins
+# and the build's (MeshLab looks for plugins beside its binary), on the first mesh.
+gui=$work/gui
+mkdir -p "$gui/plugins"
+cp -f "$(command -v meshlab)" "$gui/meshlab"
+for p in "$libdir"/plugins/*.so; do
+  [ "$(basename "$p")" = "$(basename "$plugin")" ] || ln -sf "$p" "$gui/plugins/"
+done
+ln -sf "$(cd "$(dirname "$plugin")" && pwd)/$(basename "$plugin")" "$gui/plugins/"
+cat >"$gui/run.sh" <<RUN
+#!/usr/bin/env bash
+export LD_LIBRARY_PATH="$libdir\${LD_LIBRARY_PATH:+:\$LD_LIBRARY_PATH}"
+exec "$gui/meshlab" "\$@"
+RUN
+chmod +x "$gui/run.sh"
+for attempt in 1 2 3; do
+  xvfb-run -a -s "-screen 0 1600x2600x24" bash "$0" --gui "$gui/run.sh" "$data/${meshes[0]}.ply" "$work" && break
+  [ "$attempt" -lt 3 ] || { echo "make_pictures: GUI capture failed 3 times" >&2; exit 1; }
+  sleep 2
+done
+convert "$work/gui_color_bad_elements.png" -crop 1600x1000+0+0 +repage -resize 1000x -strip -define png:compression-level=9 \
+  "$out/gui_color_bad_elements.png"
+convert "$work/gui_full_pipeline_dialog.png" -strip -define png:compression-level=9 "$out/gui_full_pipeline_dialog.png"
+# The floating layer dock: its layers (top), and the log with the tables (bottom).
+convert "$work/gui_full_pipeline_log.png" \( -clone 0 -crop 600x120+1000+0 \) \( -clone 0 -crop 600x${LOG_HEIGHT:-760}+1000+$((2600 - ${LOG_HEIGHT:-760})) \) \
+  -delete 0 +repage -append -strip -define png:compression-level=9 "$out/gui_full_pipeline_log.png"
+for png in gui_color_bad_elements gui_full_pipeline_dialog gui_full_pipeline_log; do
+  echo "make_pictures: $out/$png.png ($(du -k "$out/$png.png" | cut -f1) KB)"
 done

@@ -87,3 +87,23 @@ TEST(BadElementColoring, ThresholdsAreParameters) {
   EXPECT_EQ(counts.obtuseFaces, 0u);
   EXPECT_EQ(counts.smallAngleFaces, std::size_t(m.fn));
 }
+
+TEST(BadElementColoring, ColorBlindSafePaletteTellsLowAndHighValenceApartFromFaceClasses) {
+  MeshD m;
+  vcg::tri::Tetrahedron(m); // valence 3 everywhere, equilateral faces
+  Coloring::Params params;
+  params.palette = Coloring::ColorBlindSafePalette();
+  const molremesh::BadElementCounts counts = Coloring::Do(m, params);
+  EXPECT_EQ(counts.lowValenceVertices, 4u);
+  EXPECT_EQ(counts.highValenceVertices, 0u);
+  EXPECT_EQ(counts.irregularVertices, 4u);
+  for (const auto& v : m.vert) EXPECT_EQ(v.cC(), params.palette.lowValenceVertex);
+  for (const auto& f : m.face) EXPECT_EQ(f.cC(), params.palette.neutral);
+  const molremesh::BadElementPalette& p = params.palette;
+  for (const vcg::Color4b& vertexColor : {p.lowValenceVertex, p.highValenceVertex})
+    for (const vcg::Color4b& faceColor : {p.obtuseFace, p.smallAngleFace, p.obtuseAndSmallFace, p.neutral})
+      EXPECT_FALSE(vertexColor == faceColor);
+  // The default palette keeps the colors of the named accessors.
+  EXPECT_EQ(Coloring::DefaultPalette().obtuseFace, Coloring::ObtuseFaceColor());
+  EXPECT_EQ(Coloring::DefaultPalette().lowValenceVertex, Coloring::IrregularVertexColor());
+}

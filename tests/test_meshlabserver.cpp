@@ -80,17 +80,20 @@ TEST_P(MeshlabServerOnMesh, ColorScriptMatchesCliCounts) {
   ASSERT_TRUE(mask & vcg::tri::io::Mask::IOM_FACECOLOR) << "face colors were not saved";
   ASSERT_TRUE(mask & vcg::tri::io::Mask::IOM_VERTQUALITY) << "vertex quality was not saved";
 
-  using Coloring = molremesh::BadElementColoring<MeshD>;
+  // The plugin colors with the color-blind-safe palette: "red" = obtuse, "blue" = small angle,
+  // "magenta" = both, "redVertices" = irregular vertices of either class.
+  const molremesh::BadElementPalette palette = molremesh::BadElementColoring<MeshD>::ColorBlindSafePalette();
   std::size_t red = 0, blue = 0, magenta = 0, redVertices = 0;
   for (const auto& f : mesh.face) {
-    red += f.cC() == Coloring::ObtuseFaceColor();
-    blue += f.cC() == Coloring::SmallAngleFaceColor();
-    magenta += f.cC() == Coloring::ObtuseAndSmallFaceColor();
+    red += f.cC() == palette.obtuseFace;
+    blue += f.cC() == palette.smallAngleFace;
+    magenta += f.cC() == palette.obtuseAndSmallFace;
   }
   const std::vector<int> valence = molremesh::MeshQuality<MeshD>::VertexValences(mesh);
   std::size_t qualityMismatches = 0;
   for (std::size_t i = 0; i < mesh.vert.size(); ++i) {
-    redVertices += mesh.vert[i].cC() == Coloring::IrregularVertexColor();
+    redVertices +=
+        mesh.vert[i].cC() == palette.lowValenceVertex || mesh.vert[i].cC() == palette.highValenceVertex;
     qualityMismatches += mesh.vert[i].cQ() != double(valence[i]);
   }
   EXPECT_EQ(qualityMismatches, 0u) << "vertex quality must be the valence";

@@ -57,6 +57,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <tuple>
@@ -102,6 +103,9 @@ public:
                                    ///< that it encloses the input's volume again (see RestoreVolume)
     double maxVolumeOffset = 0.05; ///< bound on that offset, in units of L (keeps vertices near the input)
     typename ReferenceSurface<MeshType>::Params reference; ///< for the reference built by Do(m, params)
+    /// If set, called on the calling thread at each sampling pass and Lloyd iteration with the
+    /// share of the stage done (0..1) and the step ("Lloyd iteration 17/42"); for progress bars.
+    std::function<void(double fraction, const std::string& step)> progress;
   };
 
   struct Result {
@@ -526,6 +530,10 @@ void CvtInitialization<MeshType>::Sample(Ops& ops, const Params& params, double 
   const double splitLength = params.splitFactor * L, collapseLength = params.collapseFactor * L;
   for (int pass = 0; pass < params.samplingPasses; ++pass) {
     Progress(cb, 0.1 * pass / std::max(1, params.samplingPasses), "CVT: sampling");
+    if (params.progress)
+      params.progress(0.1 * pass / std::max(1, params.samplingPasses),
+                      "sampling pass " + std::to_string(pass + 1) + "/" +
+                          std::to_string(params.samplingPasses));
     std::size_t changed = SplitPass(ops, splitLength, unlimited, edges);
     changed += CollapsePass(ops, collapseLength, splitLength, unlimited, edges);
     if (params.delaunayFlips) DelaunayFlips(ops, threads, params.maxFlipsPerVertex);
@@ -723,6 +731,9 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   std::size_t applied = 0, rejected = 0;
   for (int it = 0; it < params.iterations; ++it) {
     Progress(cb, 0.1 + 0.9 * it / std::max(1, params.iterations), "CVT: Lloyd relaxation");
+    if (params.progress)
+      params.progress(0.1 + 0.9 * it / std::max(1, params.iterations),
+                      "Lloyd iteration " + std::to_string(it + 1) + "/" + std::to_string(params.iterations));
     if (params.matchVertexCount && it < std::max(1, params.iterations / 3))
       MatchVertexCount(ops, m, params, L, wanted, edges);
     const bool fullProjection = it >= params.iterations - params.fullProjectionIterations;

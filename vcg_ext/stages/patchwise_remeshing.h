@@ -53,9 +53,11 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -88,6 +90,9 @@ public:
     bool finalPasses = true;  ///< strip pass and Finalize; false: stop after stitching, the borders exactly
                               ///< as the patch phase kept them (for testing)
     int threads = 0;          ///< worker threads; 0 = all cores (the result does not depend on it)
+    /// If set, called on the calling thread with the share of the stage done (0..1) and the step
+    /// ("patch 17/75", "strip around the patch borders"); for progress bars.
+    std::function<void(double fraction, const std::string& step)> progress;
   };
 
   struct Result {
@@ -933,12 +938,18 @@ void PatchwiseRemeshing<MeshType>::RemeshPatchesInParallel(Global& g0, Context& 
     std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
       return g0.facesOfPatch[std::size_t(a)].size() > g0.facesOfPatch[std::size_t(b)].size();
     });
+    std::atomic<int> finished{0};
     ParallelFor(
         order.size(), threads,
-        [&](std::size_t begin, std::size_t end, int) {
+        [&](std::size_t begin, std::size_t end, int thread) {
           for (std::size_t i = begin; i < end; ++i) {
             const int p = order[i];
             results[std::size_t(p)] = RemeshPatch(g0, index, ctx, p, ctx.haloCells);
+            const int done = ++finished;
+            // Thread 0 is the calling thread: a progress bar may only be touched from there.
+            if (thread == 0 && ctx.params->progress)
+              ctx.params->progress(0.05 + 0.75 * done / double(order.size()),
+                                   "patch " + std::to_string(done) + "/" + std::to_string(order.size()));
           }
         },
         1);
@@ -1002,6 +1013,7 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
   };
   auto progress = [&](int percent, const char* what) {
     if (cb) cb(percent, what);
+    if (params.progress) params.progress(percent / 100.0, std::string(what).substr(5)); // without "RAR: "
   };
 
   // --- Preconditions -----------------------------------------------------------------------------
