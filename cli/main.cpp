@@ -170,9 +170,9 @@ void CheckWritable(const std::string& path, const std::string& what) {
 
 /// The output's format must be known and the file writable before hours of work are spent.
 void CheckMeshOutput(const std::string& path) {
+  CheckWritable(path, "the output");
   if (molremesh::FormatFromPath(path) == molremesh::MeshFormat::Unknown)
     throw UsageError("cannot write '" + path + "': unknown format (use .ply, .off, .obj or .stl)");
-  CheckWritable(path, "the output");
 }
 
 /// Loads and validates a triangle mesh, or throws InputError with the reason.

@@ -481,8 +481,8 @@ TEST(CliArguments, ThreadCountsAreClampedWithAWarning) {
 TEST(CliArguments, ThreadsThatCannotStartAreNotAnAbort) {
   const std::string in = Quote(BundledMesh("lysozyme_Lys1_msms.ply"));
   auto limited = [&](const char* threads) {
-    return Run("bash -c \"ulimit -v 60000 && " + Quote(kCli) + " report --json --threads " + threads + " " +
-               in + "\"");
+    return molremesh::test::Run("bash -c \"ulimit -v 60000 && " + Quote(kCli) + " report --json --threads " +
+                                threads + " " + in + "\"");
   };
   const CommandResult one = limited("1");
   if (one.exitCode != 0) GTEST_SKIP() << "60 MB of address space is too little for this build: " << one.err;
@@ -591,14 +591,15 @@ TEST(CliFromAClone, DemoRunsOnTheBundledData) {
   const auto clone = dir / "molremesh";
   ASSERT_FALSE(std::filesystem::exists(dir / "shared"));
   const CommandResult cloned =
-      Run("git clone -q " + Quote(MOLREMESH_SOURCE_DIR) + " " + Quote(clone.string()));
+      molremesh::test::Run("git clone -q " + Quote(MOLREMESH_SOURCE_DIR) + " " + Quote(clone.string()));
   ASSERT_EQ(cloned.exitCode, 0) << cloned.err;
   std::uintmax_t bytes = 0;
   for (const auto& entry : std::filesystem::directory_iterator(clone / "data")) bytes += entry.file_size();
   EXPECT_LT(bytes, 2u << 20);
   const auto out = dir / "demo_output";
-  const CommandResult demo = Run("MOLREMESH=" + Quote(kCli) + " OUT_DIR=" + Quote(out.string()) + " bash " +
-                                 Quote((clone / "scripts" / "demo.sh").string()) + " --cli-only");
+  const CommandResult demo =
+      molremesh::test::Run("MOLREMESH=" + Quote(kCli) + " OUT_DIR=" + Quote(out.string()) + " bash " +
+                           Quote((clone / "scripts" / "demo.sh").string()) + " --cli-only");
   ASSERT_EQ(demo.exitCode, 0) << demo.out << demo.err;
   for (const char* mesh : {"lysozyme_Lys1_msms", "ubiquitin_1UBQ_edtsurf_mc"}) {
     ExpectMentions(demo.out, {"quality report (CLI)", "V567", "irregular vertices (red)"});
