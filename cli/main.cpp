@@ -25,6 +25,7 @@
 #include <new>
 #include <sstream>
 #include <string>
+#include <system_error>
 #include <thread>
 
 #include <fcntl.h>
@@ -601,16 +602,16 @@ int main(int argc, char** argv) {
     return kExitUsage;
   }
 
-  bool hasMemoryLimit = false;
+  std::string memoryHint; // what --memory-limit bounds, for the commands that have it
   try {
     if (*report) {
-      hasMemoryLimit = true;
+      memoryHint = "; --memory-limit bounds the self-intersection count only";
       return RunReport(c.input, c.json, c.skipSelfIntersections, ClampThreads(c.reportThreads),
                        c.reportMemoryLimitMB);
     }
     if (*color) return RunColor(c.input, c.output, c.smallAngle, c.obtuseAngle);
     if (*remesh) {
-      hasMemoryLimit = true;
+      memoryHint = "; --memory-limit sets the limit the run is checked against before it starts";
       ParseSeed(c.seed, c.remesh.seed); // checked by the parser
       c.remesh.threads = ClampThreads(c.remesh.threads);
       return RunRemesh(c.input, c.output, c.remesh);
@@ -622,11 +623,15 @@ int main(int argc, char** argv) {
     std::cerr << "molremesh: error: " << e.what() << '\n';
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
-    std::cerr << "molremesh: error: out of memory (nothing written"
-              << (hasMemoryLimit
-                      ? "; --memory-limit sets the limit the run is checked against before it starts"
-                      : "")
-              << ")\n";
+    std::cerr << "molremesh: error: out of memory (nothing written" << memoryHint << ")\n";
+    return kExitBadInput;
+  } catch (const std::system_error& e) {
+    // EAGAIN: a thread the pipeline starts on its own (the background quality report) was refused.
+    if (e.code() == std::errc::resource_unavailable_try_again)
+      std::cerr << "molremesh: error: the system refused to start a thread (" << e.what()
+                << "; nothing written): fewer --threads or more memory may help\n";
+    else
+      std::cerr << "molremesh: error: " << e.what() << '\n';
     return kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "molremesh: error: " << e.what() << '\n';
