@@ -374,6 +374,9 @@ def method_argv(method, tools, args, mesh, output, target, diag, work, length=No
         argv += ["--target-length", "%.9g" % length]
     if "--json" not in argv and os.path.basename(argv[0]) == "molremesh" and "remesh" in argv:
         argv += ["--json", os.path.join(work, "molremesh_stages.json")]  # per-stage wall times
+    if os.path.basename(argv[0]) == "molremesh" and "remesh" in argv and "--quiet" not in argv \
+            and "--verbose" not in argv:
+        argv += ["--verbose"]  # the per-stage progress lines the stage monitor reads
     return argv
 
 

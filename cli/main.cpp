@@ -1,18 +1,35 @@
 // molremesh: command-line front end for batch jobs. Parse, call vcg_ext, report.
 //
 // Every failure is one line on stderr starting with "molremesh: error:" and a non-zero exit
-// status (2 for unusable input, 1 for command-line mistakes); never a crash. A remeshed output
-// that is written but not valid (self-intersections the input's unrepairable tangles left, say)
-// exits with status 3 and says why on stderr, as "molremesh: warning:" lines do for the targets a
-// valid output misses (status 0).
+// status: 1 for command-line mistakes (every value is checked before any work, output paths
+// included), 2 for unusable input; never a crash. A remeshed output that is written but not valid
+// (self-intersections the input's unrepairable tangles left, say) exits with status 3 and says why
+// on stderr, as "molremesh: warning:" lines do for the targets a valid output misses (status 0).
+// `remesh` prints one summary line on stderr by default (and progress on a terminal), the
+// per-stage tables with --verbose, and nothing but warnings and errors with --quiet.
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
+#include <cerrno>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <exception>
+#include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <iostream>
+#include <limits>
 #include <new>
+#include <sstream>
 #include <string>
+#include <system_error>
+#include <thread>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -24,8 +41,10 @@
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/quality/quality_report_format.h>
+#include <vcg_ext/pipeline/memory_budget.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>
 #include <vcg_ext/quality/stage_summary.h>
+#include <vcg_ext/spatial/self_intersections.h>
 
 #include "report_json.h"
 
@@ -33,12 +52,129 @@ namespace {
 
 using molremesh::MeshD;
 
-constexpr int kExitBadInput = 2;
+constexpr int kExitUsage = 1;         ///< a command-line mistake: nothing was read or written
+constexpr int kExitBadInput = 2;      ///< unusable input, a failed stage, a run refused for memory
 constexpr int kExitInvalidOutput = 3; ///< the output was written, but it is not a valid surface mesh
+const char* const kCommands = "report, color, remesh";
 
 struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+/// A command-line mistake found after parsing (an unwritable output path, a bad stage list).
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// --- Values checked on the command line ------------------------------------------------------
+
+std::string Readable(double x) {
+  std::ostringstream s;
+  s << x; // 6 significant digits: 1e+12, not 1000000000000.000000
+  return s.str();
+}
+
+/// "in [0, 60]", "in (0, 59]", "in [60, 180)", or "at least 0" for an unbounded top.
+std::string RangeText(double lo, double hi, bool lowOpen, bool highOpen) {
+  if (!std::isfinite(hi)) return (lowOpen ? "above " : "at least ") + Readable(lo);
+  return (lowOpen ? "in (" : "in [") + Readable(lo) + ", " + Readable(hi) + (highOpen ? ")" : "]");
+}
+
+/// Whole text parsed as a finite double (no trailing characters, no NaN or infinity).
+bool ParseFinite(const std::string& text, double& value) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtod(text.c_str(), &end);
+  return end && *end == '\0' && errno != ERANGE && std::isfinite(value);
+}
+
+/// A finite number in the range; the message says the range as a user writes it.
+CLI::Validator Number(double lo, double hi = std::numeric_limits<double>::infinity(), bool lowOpen = false,
+                      bool highOpen = false) {
+  const std::string range = RangeText(lo, hi, lowOpen, highOpen);
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double value = 0;
+        if (!ParseFinite(text, value)) return "'" + text + "' is not a finite number";
+        if (value < lo || value > hi || (lowOpen && value == lo) || (highOpen && value == hi))
+          return text + " is not " + range;
+        return {};
+      },
+      range);
+}
+
+/// A whole number in [lo, hi].
+CLI::Validator WholeNumber(long long lo, long long hi = std::numeric_limits<int>::max()) {
+  const std::string range = "in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const long long value = std::strtoll(text.c_str(), &end, 10);
+        if (text.empty() || !end || *end != '\0' || errno == ERANGE)
+          return "'" + text + "' is not a whole number " + range;
+        if (value < lo || value > hi) return text + " is not " + range;
+        return {};
+      },
+      range);
+}
+
+/// A seed: a whole number in [0, 2^64 - 1], written in decimal digits only (no sign, no exponent).
+bool ParseSeed(const std::string& text, std::uint64_t& seed) {
+  if (text.empty() || text.size() > 20 ||
+      !std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; }))
+    return false;
+  char* end = nullptr;
+  errno = 0;
+  const unsigned long long value = std::strtoull(text.c_str(), &end, 10);
+  if (errno == ERANGE || *end != '\0') return false;
+  seed = value;
+  return true;
+}
+
+CLI::Validator Seed() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        std::uint64_t seed = 0;
+        return ParseSeed(text, seed) ? std::string()
+                                     : "'" + text + "' is not a whole number in [0, 18446744073709551615]";
+      },
+      "in [0, 2^64 - 1]");
+}
+
+/// Thread counts beyond what the machine runs only cost thread starts (and may fail them): at most
+/// 4 per core, with a warning. The output does not depend on the count.
+int ClampThreads(int requested) {
+  const int cores = int(std::max(1u, std::thread::hardware_concurrency()));
+  const int cap = 4 * cores;
+  if (requested <= cap) return requested;
+  std::cerr << "molremesh: warning: --threads " << requested << " is more than 4 per core (" << cores
+            << " cores); using " << cap << '\n';
+  return cap;
+}
+
+/// Throws UsageError unless `path` can be written, before any work and without destroying
+/// anything: an existing file is opened for appending (not truncated), a new one is created and
+/// removed again.
+void CheckWritable(const std::string& path, const std::string& what) {
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  const std::string cannot = "cannot write " + what + " '" + path + "': ";
+  if (std::filesystem::is_directory(status)) throw UsageError(cannot + "it is a directory");
+  const bool exists = std::filesystem::exists(status);
+  const int fd = exists ? ::open(path.c_str(), O_WRONLY | O_APPEND | O_NONBLOCK)
+                        : ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
+  if (fd < 0) throw UsageError(cannot + std::strerror(errno));
+  ::close(fd);
+  if (!exists) ::unlink(path.c_str());
+}
+
+/// The output's format must be known and the file writable before hours of work are spent.
+void CheckMeshOutput(const std::string& path) {
+  CheckWritable(path, "the output");
+  if (molremesh::FormatFromPath(path) == molremesh::MeshFormat::Unknown)
+    throw UsageError("cannot write '" + path + "': unknown format (use .ply, .off, .obj or .stl)");
+}
 
 /// Loads and validates a triangle mesh, or throws InputError with the reason.
 void LoadValidMesh(MeshD& mesh, const std::string& path) {
@@ -48,12 +184,50 @@ void LoadValidMesh(MeshD& mesh, const std::string& path) {
   if (!check.ok) throw InputError("'" + path + "': " + check.message);
 }
 
-int RunReport(const std::string& input, bool json, bool skipSelfIntersections, int threads) {
+/// "" when the self-intersection count of `mesh` fits in the memory budget, else why not: its
+/// found pairs are bounded only by the candidate pairs, which grow with the square of the face
+/// count on overlapping polygon soups.
+std::string SelfIntersectionBudget(const MeshD& mesh, double memoryLimitMB, int threads) {
+  if (memoryLimitMB < 0) return {};
+  std::vector<std::array<molremesh::Index, 3>> tris;
+  tris.reserve(mesh.face.size());
+  std::vector<double> edges;
+  edges.reserve(3 * mesh.face.size());
+  for (const auto& f : mesh.face) {
+    if (f.IsD()) continue;
+    tris.push_back({molremesh::Index(vcg::tri::Index(mesh, f.cV(0))),
+                    molremesh::Index(vcg::tri::Index(mesh, f.cV(1))),
+                    molremesh::Index(vcg::tri::Index(mesh, f.cV(2)))});
+    for (int k = 0; k < 3; ++k) edges.push_back(vcg::Distance(f.cP(k), f.cP((k + 1) % 3)));
+  }
+  std::vector<molremesh::Point> points;
+  points.reserve(mesh.vert.size());
+  for (const auto& v : mesh.vert) points.push_back(molremesh::ToPoint(v.cP()));
+  double median = 0;
+  if (!edges.empty()) {
+    std::nth_element(edges.begin(), edges.begin() + std::ptrdiff_t(edges.size() / 2), edges.end());
+    median = edges[edges.size() / 2];
+  }
+  const double pairs = molremesh::CandidatePairBound(tris, points, median, threads);
+  using Budget = molremesh::MemoryBudget;
+  return Budget::CheckReport(Budget::EstimateReport(tris.size(), points.size(), pairs), memoryLimitMB);
+}
+
+int RunReport(const std::string& input, bool json, bool skipSelfIntersections, int threads,
+              double memoryLimitMB) {
   MeshD mesh;
   LoadValidMesh(mesh, input);
   molremesh::MeshQuality<MeshD>::Params params;
   params.computeSelfIntersections = !skipSelfIntersections;
   params.threads = threads;
+  if (params.computeSelfIntersections) {
+    const std::string refused = SelfIntersectionBudget(mesh, memoryLimitMB, threads);
+    if (!refused.empty()) {
+      std::cerr << "molremesh: warning: " << refused
+                << ": not counted (--memory-limit MB sets the limit, -1 turns the check off)\n";
+      params.computeSelfIntersections = false;
+    }
+  }
   const molremesh::QualityReport report = molremesh::MeshQuality<MeshD>::Compute(mesh, params);
   if (json) {
     nlohmann::json out = molremesh::ToJson(report);
@@ -69,6 +243,7 @@ int RunReport(const std::string& input, bool json, bool skipSelfIntersections, i
 }
 
 int RunColor(const std::string& input, const std::string& output, double smallAngle, double obtuseAngle) {
+  CheckMeshOutput(output);
   MeshD mesh;
   LoadValidMesh(mesh, input);
   molremesh::BadElementColoring<MeshD>::Params params;
@@ -103,17 +278,78 @@ struct RemeshOptions {
   double minComponentPercent = 100.0 * molremesh::CleanRawMesh<MeshD>::Params().minComponentFraction;
   double memoryLimitMB = 0; // 0: the memory available when the run starts; < 0: no check
   std::string jsonPath;
-  bool quiet = false;
+  bool quiet = false;   ///< nothing but warnings and errors
+  bool verbose = false; ///< progress, the per-stage table and the stage summaries
   bool checkEachStage = false;
 };
 
+std::string SelfIntersectionsText(const molremesh::QualityReport& r) {
+  return r.selfIntersectionsComputed ? std::to_string(r.selfIntersectingPairs) : std::string("n/a");
+}
+
+/// The default output of a run: one line, input and output figures side by side.
+std::string SummaryLine(const std::string& input, const std::string& output,
+                        const molremesh::PipelineResult& result, double seconds) {
+  const molremesh::QualityReport& in = result.input;
+  const molremesh::QualityReport& out = result.stages.empty() ? result.input : result.stages.back().after;
+  std::ostringstream s;
+  s << std::fixed << std::setprecision(1) << "molremesh: " << input << " -> " << output << ": " << in.faces
+    << " -> " << out.faces << " faces, θmin " << in.angleMin << "° -> " << out.angleMin << "°, θmax "
+    << in.angleMax << "° -> " << out.angleMax << "°, V567 " << std::setprecision(2) << in.v567Percent
+    << " % -> " << out.v567Percent << " %, SI " << SelfIntersectionsText(in) << " -> "
+    << SelfIntersectionsText(out) << ", " << std::setprecision(1) << seconds << " s";
+  return s.str();
+}
+
+/// --verbose: the per-stage table, the stage times and every stage's summary, on stdout.
+void PrintStageTables(const std::string& input, const std::string& output,
+                      const molremesh::PipelineResult& result, std::uint64_t seed) {
+  std::vector<molremesh::NamedReport> columns{{"input", result.input}};
+  for (const auto& stage : result.stages) columns.emplace_back(stage.name, stage.after);
+  std::cout << "Remeshed " << input << " -> " << output << " (target edge length " << result.targetEdgeLength
+            << ", seed " << seed << ")\n"
+            << molremesh::FormatQualityTable(columns);
+  std::cout << molremesh::StageTimesLine(result) << '\n';
+  for (const auto& stage : result.stages)
+    if (!stage.summary.empty()) {
+      std::cout << "-- " << stage.name << ":\n" << stage.summary;
+      if (stage.summary.back() != '\n') std::cout << '\n';
+    }
+}
+
+/// --json: the per-stage figures; a file that cannot be written is an error (the mesh is written).
+void WriteStageJson(const std::string& input, const std::string& output,
+                    const molremesh::PipelineResult& result, std::uint64_t seed, const std::string& path) {
+  nlohmann::json j;
+  j["input_file"] = input;
+  j["output_file"] = output;
+  j["target_edge_length"] = result.targetEdgeLength;
+  j["seed"] = seed;
+  j["seconds"] = result.seconds;
+  j["input"] = molremesh::ToJson(result.input);
+  for (const auto& stage : result.stages)
+    j["stages"].push_back({{"name", stage.name},
+                           {"seconds", stage.seconds},
+                           {"summary", stage.summary},
+                           {"after", molremesh::ToJson(stage.after)}});
+  j["verdict"] = {{"valid", result.verdict.Valid()},
+                  {"all_targets_met", result.verdict.AllMet()},
+                  {"invalid", result.verdict.invalid},
+                  {"short_of", result.verdict.shortOf}};
+  std::ofstream file(path);
+  file << j.dump(2) << '\n';
+  file.close();
+  if (!file) throw InputError("cannot write the JSON file '" + path + "' (" + output + " is written)");
+}
+
 int RunRemesh(const std::string& input, const std::string& output, const RemeshOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
   using Pipeline = molremesh::RemeshPipeline<MeshD>;
   Pipeline::Params params;
   if (!options.stages.empty()) {
     std::string error;
     if (!molremesh::ParseStageList(options.stages, params.stages, error))
-      throw InputError("--stages: " + error);
+      throw UsageError("--stages: " + error);
   }
   params.targetEdgeLength = options.targetLength;
   params.seed = options.seed;
@@ -133,14 +369,14 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.clean.maxHoleEdges = options.maxHoleEdges;
   params.clean.minComponentFraction = options.minComponentPercent / 100.0;
   params.memoryLimitMB = options.memoryLimitMB;
-  // The output format must be writable before hours of work are spent.
-  if (molremesh::FormatFromPath(output) == molremesh::MeshFormat::Unknown)
-    throw InputError("cannot write '" + output + "': unknown format (use .ply, .off, .obj or .stl)");
+  CheckMeshOutput(output);
+  if (!options.jsonPath.empty()) CheckWritable(options.jsonPath, "the JSON file");
 
   MeshD mesh;
   LoadValidMesh(mesh, input);
-  auto log = [&options](const std::string& line) {
-    if (!options.quiet) std::cerr << "molremesh: " << line << std::endl;
+  const bool progress = options.verbose || (!options.quiet && ::isatty(STDERR_FILENO));
+  auto log = [progress](const std::string& line) {
+    if (progress) std::cerr << "molremesh: " << line << std::endl;
   };
   const molremesh::PipelineResult result = Pipeline::Do(mesh, params, log);
   if (result.refusedForMemory)
@@ -149,38 +385,10 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
 
   std::string error;
   if (!molremesh::SaveMesh(mesh, output, error)) throw InputError(error);
-
-  std::vector<molremesh::NamedReport> columns{{"input", result.input}};
-  for (const auto& stage : result.stages) columns.emplace_back(stage.name, stage.after);
-  std::cout << "Remeshed " << input << " -> " << output << " (target edge length " << result.targetEdgeLength
-            << ", seed " << options.seed << ")\n"
-            << molremesh::FormatQualityTable(columns);
-  std::cout << molremesh::StageTimesLine(result) << '\n';
-  for (const auto& stage : result.stages)
-    if (!stage.summary.empty()) {
-      std::cout << "-- " << stage.name << ":\n" << stage.summary;
-      if (stage.summary.back() != '\n') std::cout << '\n';
-    }
-
-  if (!options.jsonPath.empty()) {
-    nlohmann::json j;
-    j["input_file"] = input;
-    j["output_file"] = output;
-    j["target_edge_length"] = result.targetEdgeLength;
-    j["seed"] = options.seed;
-    j["seconds"] = result.seconds;
-    j["input"] = molremesh::ToJson(result.input);
-    for (const auto& stage : result.stages)
-      j["stages"].push_back({{"name", stage.name},
-                             {"seconds", stage.seconds},
-                             {"summary", stage.summary},
-                             {"after", molremesh::ToJson(stage.after)}});
-    j["verdict"] = {{"valid", result.verdict.Valid()},
-                    {"all_targets_met", result.verdict.AllMet()},
-                    {"invalid", result.verdict.invalid},
-                    {"short_of", result.verdict.shortOf}};
-    std::ofstream(options.jsonPath) << j.dump(2) << '\n';
-  }
+  if (options.verbose) PrintStageTables(input, output, result, options.seed);
+  if (!options.jsonPath.empty()) WriteStageJson(input, output, result, options.seed, options.jsonPath);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!options.quiet) std::cerr << SummaryLine(input, output, result, seconds) << '\n';
   // Not progress: printed with --quiet too.
   std::cerr << result.verdict.Lines("molremesh: warning: " + output + " ");
   if (!result.verdict.Valid()) {
@@ -209,9 +417,13 @@ struct CommandLine {
   std::string input, output;
   bool json = false, skipSelfIntersections = false; ///< report
   int reportThreads = 0;                            ///< report
+  double reportMemoryLimitMB = 0;                   ///< report
   double smallAngle = 30.0, obtuseAngle = 90.0;     ///< color
+  std::string seed = "1";                           ///< remesh, checked by Seed()
   RemeshOptions remesh;
 };
+
+const char* const kMemoryLimitHelp = "many MB; 0 = the memory available at the start, -1 = no check";
 
 CLI::App* AddReportCommand(CLI::App& app, CommandLine& c) {
   CLI::App* report = app.add_subcommand("report", "Print the quality figures of a mesh (no change to it)");
@@ -223,7 +435,15 @@ CLI::App* AddReportCommand(CLI::App& app, CommandLine& c) {
       ->add_option("--threads", c.reportThreads,
                    "Worker threads, 0 = all cores (figures do not depend on it)")
       ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
+      ->check(WholeNumber(0));
+  report
+      ->add_option(
+          "--memory-limit", c.reportMemoryLimitMB,
+          std::string("Skip (with a warning) the self-intersection count when it could need more than "
+                      "this ") +
+              kMemoryLimitHelp)
+      ->default_val(0)
+      ->check(Number(-1, 1e12));
   return report;
 }
 
@@ -234,11 +454,71 @@ CLI::App* AddColorCommand(CLI::App& app, CommandLine& c) {
   color->add_option("output", c.output, "Output mesh file (.ply keeps colors and quality)")->required();
   color->add_option("--small-angle", c.smallAngle, "Faces with an angle below it are blue (degrees)")
       ->default_val(30.0)
-      ->check(CLI::Range(0.0, 60.0));
+      ->check(Number(0, 60));
   color->add_option("--obtuse-angle", c.obtuseAngle, "Faces with an angle at or above it are red (degrees)")
       ->default_val(90.0)
-      ->check(CLI::Range(60.0, 180.0));
+      ->check(Number(60, 180));
   return color;
+}
+
+/// The stage options of remesh: angle bounds and iteration counts.
+void AddStageOptions(CLI::App* remesh, CommandLine& c) {
+  remesh->add_option("--cvt-iterations", c.remesh.cvtIterations, "Lloyd iterations of the CVT stage")
+      ->default_val(42)
+      ->check(WholeNumber(0, 10000));
+  remesh
+      ->add_option("--surface-lift", c.remesh.surfaceLift,
+                   "Share of the way from the input's flat triangles to its smooth (Phong) surface that "
+                   "projected vertices go (at most 0.05 mean edge lengths, none at creases); 0 = on the "
+                   "flat triangles")
+      ->capture_default_str()
+      ->check(Number(0, 1));
+  remesh->add_option("--patches", c.remesh.patches, "Patches of the segmentation, 0 = automatic")
+      ->default_val(0)
+      ->check(WholeNumber(0));
+  remesh->add_option("--min-angle", c.remesh.minAngle, "Min angle (deg): no edit creates one below it")
+      ->default_val(30.0)
+      ->check(Number(0, 59, /*lowOpen=*/true));
+  remesh
+      ->add_option("--max-angle", c.remesh.maxAngle,
+                   "Max angle (deg) of valence optimization and small-angle elimination")
+      ->default_val(120.0)
+      ->check(Number(61, 180));
+  remesh
+      ->add_option("--obtuse-thresholds", c.remesh.obtuseThresholds,
+                   "Max-angle thresholds (deg) of obtuse reduction, in order")
+      ->default_str("110 100 90")
+      ->check(Number(60, 180, false, /*highOpen=*/true));
+  remesh
+      ->add_option("--translation-iterations", c.remesh.translationIterations,
+                   "Vertex translation rounds per obtuse threshold")
+      ->default_val(20)
+      ->check(WholeNumber(0, 10000));
+  remesh
+      ->add_option("--area-factor", c.remesh.areaFactor,
+                   "Valence optimization: a hole grows while its area is below this x the mean face area")
+      ->default_val(9.0)
+      ->check(Number(0));
+}
+
+/// The clean stage's options of remesh.
+void AddCleanOptions(CLI::App* remesh, CommandLine& c) {
+  remesh
+      ->add_option("--merge-tolerance", c.remesh.mergeTolerance,
+                   "Clean: merge vertices closer than this x the mean edge length")
+      ->default_val(c.remesh.mergeTolerance)
+      ->check(Number(0));
+  remesh
+      ->add_option("--max-hole-edges", c.remesh.maxHoleEdges,
+                   "Clean: close holes with at most this many boundary edges")
+      ->default_val(c.remesh.maxHoleEdges)
+      ->check(WholeNumber(0));
+  remesh
+      ->add_option(
+          "--min-component-percent", c.remesh.minComponentPercent,
+          "Clean: remove components with fewer than this % of the faces (never the largest; 0 keeps all)")
+      ->default_val(c.remesh.minComponentPercent)
+      ->check(Number(0, 100));
 }
 
 CLI::App* AddRemeshCommand(CLI::App& app, CommandLine& c) {
@@ -251,76 +531,46 @@ CLI::App* AddRemeshCommand(CLI::App& app, CommandLine& c) {
   remesh
       ->add_option("--target-length", c.remesh.targetLength,
                    "Target edge length L (default: the cleaned input's mean edge length)")
-      ->check(CLI::NonNegativeNumber);
-  remesh->add_option("--seed", c.remesh.seed, "Seed of every random choice")->default_val(1);
+      ->check(Number(0));
+  remesh->add_option("--seed", c.seed, "Seed of every random choice")->default_str("1")->check(Seed());
   remesh
       ->add_option("--threads", c.remesh.threads,
                    "Worker threads, 0 = all cores (output does not depend on it)")
       ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
-  remesh->add_option("--cvt-iterations", c.remesh.cvtIterations, "Lloyd iterations of the CVT stage")
-      ->default_val(42)
-      ->check(CLI::Range(0, 10000));
-  remesh
-      ->add_option("--surface-lift", c.remesh.surfaceLift,
-                   "Share of the way from the input's flat triangles to its smooth (Phong) surface that "
-                   "projected vertices go (at most 0.05 mean edge lengths, none at creases); 0 = on the "
-                   "flat triangles")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
-  remesh->add_option("--patches", c.remesh.patches, "Patches of the segmentation, 0 = automatic")
-      ->default_val(0)
-      ->check(CLI::NonNegativeNumber);
-  remesh->add_option("--min-angle", c.remesh.minAngle, "Min angle (deg): no edit creates one below it")
-      ->default_val(30.0)
-      ->check(CLI::Range(0.0, 59.0));
-  remesh
-      ->add_option("--max-angle", c.remesh.maxAngle,
-                   "Max angle (deg) of valence optimization and small-angle elimination")
-      ->default_val(120.0)
-      ->check(CLI::Range(61.0, 180.0));
-  remesh
-      ->add_option("--obtuse-thresholds", c.remesh.obtuseThresholds,
-                   "Max-angle thresholds (deg) of obtuse reduction, in order")
-      ->default_str("110 100 90")
-      ->check(CLI::Range(60.0, 180.0));
-  remesh
-      ->add_option("--translation-iterations", c.remesh.translationIterations,
-                   "Vertex translation rounds per obtuse threshold")
-      ->default_val(20)
-      ->check(CLI::Range(0, 10000));
-  remesh
-      ->add_option("--area-factor", c.remesh.areaFactor,
-                   "Valence optimization: a hole grows while its area is below this x the mean face area")
-      ->default_val(9.0)
-      ->check(CLI::NonNegativeNumber);
-  remesh
-      ->add_option("--merge-tolerance", c.remesh.mergeTolerance,
-                   "Clean: merge vertices closer than this x the mean edge length")
-      ->default_val(c.remesh.mergeTolerance)
-      ->check(CLI::NonNegativeNumber);
-  remesh
-      ->add_option("--max-hole-edges", c.remesh.maxHoleEdges,
-                   "Clean: close holes with at most this many boundary edges")
-      ->default_val(c.remesh.maxHoleEdges)
-      ->check(CLI::NonNegativeNumber);
-  remesh
-      ->add_option(
-          "--min-component-percent", c.remesh.minComponentPercent,
-          "Clean: remove components with fewer than this % of the faces (never the largest; 0 keeps all)")
-      ->default_val(c.remesh.minComponentPercent)
-      ->check(CLI::Range(0.0, 100.0));
+      ->check(WholeNumber(0));
+  AddStageOptions(remesh, c);
+  AddCleanOptions(remesh, c);
   remesh
       ->add_option("--memory-limit", c.remesh.memoryLimitMB,
-                   "Refuse (exit status 2, nothing written) a run whose estimated peak memory exceeds this "
-                   "many MB; 0 = the memory available at the start, -1 = no check")
+                   std::string("Refuse (exit status 2, nothing written) a run whose estimated peak memory "
+                               "exceeds this ") +
+                       kMemoryLimitHelp)
       ->default_val(0)
-      ->check(CLI::Range(-1.0, 1e12));
+      ->check(Number(-1, 1e12));
   remesh->add_option("--json", c.remesh.jsonPath, "Also write the per-stage figures as JSON to this file");
-  remesh->add_flag("--quiet", c.remesh.quiet, "No progress lines on stderr");
+  CLI::Option* quiet =
+      remesh->add_flag("--quiet", c.remesh.quiet, "Print nothing but warnings and errors (stderr)");
+  remesh
+      ->add_flag("--verbose", c.remesh.verbose,
+                 "Print progress on stderr and the per-stage table and stage summaries on stdout")
+      ->excludes(quiet);
   remesh->add_flag("--check-each-stage", c.remesh.checkEachStage,
                    "Count self-intersections after every stage (default: input and output only)");
   return remesh;
+}
+
+/// One line for a parse error of CLI11 (which prints two, and ranges in full double digits).
+std::string ParseErrorLine(const CLI::ParseError& e, const std::string& command) {
+  std::string message = e.what();
+  message = message.substr(0, message.find('\n'));
+  if (message.rfind("A subcommand", 0) == 0)
+    return std::string("a command is required (use ") + kCommands + ")";
+  const std::string help = command.empty() ? "molremesh --help" : "molremesh " + command + " --help";
+  return message + " (" + help + " lists the options)";
+}
+
+bool IsCommand(const std::string& word) {
+  return word == "report" || word == "color" || word == "remesh";
 }
 
 } // namespace
@@ -329,35 +579,63 @@ int main(int argc, char** argv) {
   KeepFreedMemoryInTheHeap();
   CLI::App app{"molremesh: molecular surface remeshing (valence optimization and angle improvement)"};
   app.require_subcommand(1);
-  app.footer("Exit status: 0 done (warnings name any target a valid output misses), 1 command-line mistake, "
-             "2 unusable input, a failed stage or a run refused for memory (nothing written), 3 output "
-             "written but not a valid surface mesh (the warnings say why).");
+  app.footer(
+      "Exit status: 0 done (warnings name any target a valid output misses), 1 command-line mistake "
+      "(nothing read or written), 2 unusable input, a failed stage or a run refused for memory (nothing "
+      "written), 3 output written but not a valid surface mesh (the warnings say why).");
 
   CommandLine c;
   CLI::App* report = AddReportCommand(app, c);
   CLI::App* color = AddColorCommand(app, c);
   CLI::App* remesh = AddRemeshCommand(app, c);
 
+  const std::string first = argc > 1 ? argv[1] : "";
+  if (!first.empty() && first[0] != '-' && !IsCommand(first)) {
+    std::cerr << "molremesh: error: unknown command '" << first << "' (use " << kCommands << ")\n";
+    return kExitUsage;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e); // --help
+    std::cerr << "molremesh: error: " << ParseErrorLine(e, IsCommand(first) ? first : "") << '\n';
+    return kExitUsage;
   }
 
+  std::string memoryHint; // what --memory-limit bounds, for the commands that have it
   try {
-    if (*report) return RunReport(c.input, c.json, c.skipSelfIntersections, c.reportThreads);
+    if (*report) {
+      memoryHint = "; --memory-limit bounds the self-intersection count only";
+      return RunReport(c.input, c.json, c.skipSelfIntersections, ClampThreads(c.reportThreads),
+                       c.reportMemoryLimitMB);
+    }
     if (*color) return RunColor(c.input, c.output, c.smallAngle, c.obtuseAngle);
-    if (*remesh) return RunRemesh(c.input, c.output, c.remesh);
+    if (*remesh) {
+      memoryHint = "; --memory-limit sets the limit the run is checked against before it starts";
+      ParseSeed(c.seed, c.remesh.seed); // checked by the parser
+      c.remesh.threads = ClampThreads(c.remesh.threads);
+      return RunRemesh(c.input, c.output, c.remesh);
+    }
+  } catch (const UsageError& e) {
+    std::cerr << "molremesh: error: " << e.what() << '\n';
+    return kExitUsage;
   } catch (const InputError& e) {
     std::cerr << "molremesh: error: " << e.what() << '\n';
     return kExitBadInput;
   } catch (const std::bad_alloc&) {
-    std::cerr << "molremesh: error: out of memory (nothing written; --memory-limit sets the limit the run is "
-                 "checked against before it starts)\n";
+    std::cerr << "molremesh: error: out of memory (nothing written" << memoryHint << ")\n";
+    return kExitBadInput;
+  } catch (const std::system_error& e) {
+    // EAGAIN: a thread the pipeline starts on its own (the background quality report) was refused.
+    if (e.code() == std::errc::resource_unavailable_try_again)
+      std::cerr << "molremesh: error: the system refused to start a thread (" << e.what()
+                << "; nothing written): fewer --threads or more memory may help\n";
+    else
+      std::cerr << "molremesh: error: " << e.what() << '\n';
     return kExitBadInput;
   } catch (const std::exception& e) {
     std::cerr << "molremesh: error: " << e.what() << '\n';
     return kExitBadInput;
   }
-  return 1;
+  return kExitUsage;
 }

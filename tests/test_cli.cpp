@@ -2,8 +2,12 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <initializer_list>
+#include <vector>
 
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/core/mesh_types.h>
@@ -27,6 +31,22 @@ void ExpectInputError(const CommandResult& r, const std::string& expectedText) {
   EXPECT_NE(r.err.find("molremesh: error:"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find(expectedText), std::string::npos) << r.err;
   EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+// A command-line mistake: exit status 1, one line "molremesh: error: ..." naming it, nothing on
+// stdout, and no range printed in full double digits.
+void ExpectUsageError(const CommandResult& r, const std::string& expectedText) {
+  EXPECT_EQ(r.exitCode, 1) << "stderr: " << r.err;
+  EXPECT_EQ(r.err.rfind("molremesh: error: ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find(expectedText), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("0.000000"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("179769"), std::string::npos) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+std::size_t LineCount(const std::string& text) {
+  return std::size_t(std::count(text.begin(), text.end(), '\n'));
 }
 
 void ExpectMentions(const std::string& text, std::initializer_list<const char*> parts) {
@@ -58,10 +78,9 @@ TEST(Cli, NanCoordinates) {
   ExpectInputError(Cli("report " + Quote(Fixture("nan_vertex.ply"))), "NaN");
 }
 
-TEST(Cli, UsageErrorExitsNonZero) {
-  const CommandResult r = Cli("report");
-  EXPECT_NE(r.exitCode, 0);
-  EXPECT_LT(r.exitCode, 128);
+TEST(Cli, UsageErrorExitsWithStatus1AndOneLine) {
+  ExpectUsageError(Cli("report"), "input is required");
+  ExpectUsageError(Cli(""), "a command is required (use report, color, remesh)");
 }
 
 TEST(Cli, NonManifoldFanIsReportedNotRefused) {
@@ -92,9 +111,9 @@ TEST(Cli, ReportTableOnRealMesh) {
 }
 
 TEST(Cli, ReportJsonOnRealMeshMatchesItsKnownDefects) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
+  MOLREMESH_SKIP_WITHOUT_MESH("ubiquitin_1UBQ_edtsurf_mc.ply");
   // ubiquitin_1UBQ_edtsurf_mc.ply: per the data README, 36 boundary edges and 5 non-manifold vertices.
-  const CommandResult r = Cli("report --json " + Quote(SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply")));
+  const CommandResult r = Cli("report --json " + Quote(RealMesh("ubiquitin_1UBQ_edtsurf_mc.ply")));
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["faces"], 11334);
@@ -173,7 +192,7 @@ TEST(Cli, RemeshRefusesBadInputAndUnknownStagesWritingNothing) {
   const auto dir = TempDir("cli_remesh_bad");
   const std::string out = (dir / "out.ply").string();
   ExpectInputError(Cli("remesh " + Quote(Fixture("nan_vertex.ply")) + " " + Quote(out)), "NaN");
-  ExpectInputError(
+  ExpectUsageError(
       Cli("remesh --stages clean,bogus " + Quote(SharedMesh("bpti_1bpi_msms.ply")) + " " + Quote(out)),
       "unknown stage 'bogus'");
   ExpectInputError(Cli("remesh --stages cvt " + Quote(Fixture("nonmanifold_fan.ply")) + " " + Quote(out)),
@@ -351,5 +370,246 @@ TEST(Cli, HeaderDeclaringMoreThanTheFileHoldsIsRefused) {
   const std::string honestOff = (dir / "honest.off").string();
   std::ofstream(honestOff) << "OFF\n3 1 0\n" << triangle << "3 0 1 2";
   EXPECT_EQ(Cli("report --no-self-intersections " + Quote(honestOff)).exitCode, 0);
+  std::filesystem::remove_all(dir);
+}
+
+// ------------------------------------------------------------------------------------------------
+// The command-line contract: every value checked before any work, one line per mistake.
+// ------------------------------------------------------------------------------------------------
+
+TEST(CliArguments, UnknownCommandIsNamed) {
+  ExpectUsageError(Cli("foo " + Quote(BundledMesh("lysozyme_Lys1_msms.ply"))),
+                   "unknown command 'foo' (use report, color, remesh)");
+}
+
+// Each value outside its range is refused up front with the option's name and a readable range:
+// no stage runs, nothing is written (before, NaN took the default, seeds -1, 2^64 and 1e23 became
+// 2^64 - 1, and --min-angle 0 or --obtuse-thresholds 180 failed a stage late).
+TEST(CliArguments, ValuesOutOfRangeAreRefusedUpFront) {
+  const auto dir = TempDir("cli_ranges");
+  const std::string out = (dir / "out.ply").string();
+  const std::string remesh =
+      "remesh " + Quote(BundledMesh("lysozyme_Lys1_msms.ply")) + " " + Quote(out) + " ";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {remesh + "--target-length nan", "--target-length: 'nan' is not a finite number"},
+      {remesh + "--target-length inf", "--target-length: 'inf' is not a finite number"},
+      {remesh + "--target-length -1", "--target-length: -1 is not at least 0"},
+      {remesh + "--seed -1", "--seed: '-1' is not a whole number in [0, 18446744073709551615]"},
+      {remesh + "--seed 18446744073709551616", "--seed: '18446744073709551616' is not a whole number"},
+      {remesh + "--seed 1e23", "--seed: '1e23' is not a whole number"},
+      {remesh + "--min-angle 0", "--min-angle: 0 is not in (0, 59]"},
+      {remesh + "--max-angle 200", "--max-angle: 200 is not in [61, 180]"},
+      {remesh + "--obtuse-thresholds 110 180", "--obtuse-thresholds: 180 is not in [60, 180)"},
+      {remesh + "--threads -1", "--threads: -1 is not in [0, 2147483647]"},
+      {remesh + "--threads 1.5", "--threads: '1.5' is not a whole number in [0, 2147483647]"},
+      {remesh + "--area-factor -1", "--area-factor: -1 is not at least 0"},
+      {remesh + "--surface-lift 1.5", "--surface-lift: 1.5 is not in [0, 1]"},
+      {remesh + "--memory-limit -2", "--memory-limit: -2 is not in [-1, 1e+12]"},
+      {remesh + "--quiet --verbose", "--quiet excludes --verbose"},
+      {remesh + "--stages clean,bogus", "--stages: unknown stage 'bogus'"},
+      {"report --threads x " + Quote(BundledMesh("lysozyme_Lys1_msms.ply")),
+       "--threads: 'x' is not a whole number"},
+      {"report --memory-limit nan " + Quote(BundledMesh("lysozyme_Lys1_msms.ply")),
+       "--memory-limit: 'nan' is not a finite number"},
+      {"color --small-angle 70 " + Quote(BundledMesh("lysozyme_Lys1_msms.ply")) + " " + Quote(out),
+       "--small-angle: 70 is not in [0, 60]"},
+  };
+  for (const auto& [args, message] : cases) {
+    SCOPED_TRACE(args);
+    ExpectUsageError(Cli(args), message);
+  }
+  EXPECT_FALSE(std::filesystem::exists(out));
+  // The largest seed is a seed.
+  EXPECT_EQ(Cli(remesh + "--quiet --stages segment --seed 18446744073709551615").exitCode, 0);
+  std::filesystem::remove_all(dir);
+}
+
+// The output and --json paths are checked before any work, without destroying an existing file.
+TEST(CliArguments, UnwritableOutputsAreRefusedBeforeAnyWork) {
+  const auto dir = TempDir("cli_unwritable");
+  const std::string in = Quote(BundledMesh("lysozyme_Lys1_msms.ply"));
+  const std::string out = (dir / "out.ply").string();
+  ExpectUsageError(Cli("remesh " + in + " /nonexistent/dir/out.ply"),
+                   "cannot write the output '/nonexistent/dir/out.ply': No such file or directory");
+  ExpectUsageError(Cli("remesh " + in + " " + Quote(dir.string())), "it is a directory");
+  ExpectUsageError(Cli("remesh " + in + " " + Quote((dir / "out.xyz").string())), "unknown format");
+  ExpectUsageError(Cli("remesh " + in + " " + Quote(out) + " --json /nonexistent/x.json"),
+                   "cannot write the JSON file '/nonexistent/x.json'");
+  ExpectUsageError(Cli("color " + in + " /nonexistent/dir/out.ply"), "cannot write the output");
+  EXPECT_FALSE(std::filesystem::exists(out)) << "the probe leaves nothing behind";
+  // An existing output survives a run that fails.
+  std::ofstream(out) << "keep";
+  ExpectInputError(Cli("remesh " + Quote(Fixture("nan_vertex.ply")) + " " + Quote(out)), "NaN");
+  EXPECT_EQ(ReadFile(out), "keep");
+  std::filesystem::remove_all(dir);
+}
+
+// A JSON file that cannot be written after the run is an error, not a silent exit 0.
+TEST(CliArguments, JsonWriteFailureIsAnError) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "no /dev/full";
+  const auto dir = TempDir("cli_json_full");
+  const std::string out = (dir / "out.ply").string();
+  const CommandResult r = Cli("remesh --stages segment " + Quote(BundledMesh("lysozyme_Lys1_msms.ply")) +
+                              " " + Quote(out) + " --json /dev/full");
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_EQ(r.err, "molremesh: error: cannot write the JSON file '/dev/full' (" + out + " is written)\n");
+  std::filesystem::remove_all(dir);
+}
+
+// More threads than the machine runs are clamped with a warning; the output is the same bytes.
+TEST(CliArguments, ThreadCountsAreClampedWithAWarning) {
+  const auto dir = TempDir("cli_threads");
+  const std::string in = Quote(BundledMesh("lysozyme_Lys1_msms.ply"));
+  const std::string one = (dir / "one.ply").string(), many = (dir / "many.ply").string();
+  const CommandResult r1 =
+      Cli("remesh --quiet --stages clean,cvt --cvt-iterations 3 --threads 1 " + in + " " + Quote(one));
+  ASSERT_EQ(r1.exitCode, 0) << r1.err;
+  const CommandResult rMany =
+      Cli("remesh --quiet --stages clean,cvt --cvt-iterations 3 --threads 100000 " + in + " " + Quote(many));
+  ASSERT_EQ(rMany.exitCode, 0) << rMany.err;
+  EXPECT_EQ(LineCount(rMany.err), 1u) << rMany.err;
+  ExpectMentions(rMany.err, {"molremesh: warning: --threads 100000 is more than 4 per core", "; using "});
+  EXPECT_EQ(ReadFile(one), ReadFile(many));
+  const CommandResult report = Cli("report --json --threads 100000 " + in);
+  EXPECT_EQ(report.exitCode, 0) << report.err;
+  EXPECT_EQ(report.out, Cli("report --json --threads 1 " + in).out);
+  std::filesystem::remove_all(dir);
+}
+
+// Threads the system refuses to start (here: address space for their stacks) leave their work to
+// the threads that run: the same figures, not std::terminate (exit 134 before).
+TEST(CliArguments, ThreadsThatCannotStartAreNotAnAbort) {
+  const std::string in = Quote(BundledMesh("lysozyme_Lys1_msms.ply"));
+  auto limited = [&](const char* threads) {
+    return molremesh::test::Run("bash -c \"ulimit -v 60000 && " + Quote(kCli) + " report --json --threads " +
+                                threads + " " + in + "\"");
+  };
+  const CommandResult one = limited("1");
+  if (one.exitCode != 0) GTEST_SKIP() << "60 MB of address space is too little for this build: " << one.err;
+  const CommandResult eight = limited("8");
+  EXPECT_EQ(eight.exitCode, 0) << eight.err;
+  EXPECT_EQ(eight.out, one.out);
+}
+
+// The self-intersection count of `report` is checked against the memory budget: on a soup of
+// overlapping triangles its candidate pairs grow with the square of the face count, so beyond the
+// limit the figure is skipped with one warning (the other figures are printed); -1 turns it off.
+TEST(CliArguments, ReportSkipsTheSelfIntersectionCountBeyondTheMemoryLimit) {
+  const auto dir = TempDir("cli_report_budget");
+  const std::string soup = (dir / "soup.off").string();
+  const int n = 2000; // long triangles through one point: every pair overlaps
+  {
+    std::ofstream off(soup);
+    off << "OFF\n" << 3 * n << ' ' << n << " 0\n";
+    for (int i = 0; i < n; ++i) {
+      const double a = 3.14159265358979 * i / n, c = std::cos(a), s = std::sin(a);
+      off << c << ' ' << s << " -0.1\n"
+          << -c << ' ' << -s << " 0.1\n"
+          << 0.01 * s << ' ' << 0.01 * c << " 1\n";
+    }
+    for (int i = 0; i < n; ++i) off << "3 " << 3 * i << ' ' << 3 * i + 1 << ' ' << 3 * i + 2 << '\n';
+  }
+  const CommandResult skipped = Cli("report --json --memory-limit 100 " + Quote(soup));
+  ASSERT_EQ(skipped.exitCode, 0) << skipped.err;
+  EXPECT_EQ(LineCount(skipped.err), 1u) << skipped.err;
+  ExpectMentions(skipped.err,
+                 {"molremesh: warning: the self-intersection count would need up to", "candidate pairs",
+                  "more than the 100 MB memory limit", "not counted", "--memory-limit MB sets the limit"});
+  const auto partial = nlohmann::json::parse(skipped.out);
+  EXPECT_EQ(partial["faces"], n);
+  EXPECT_TRUE(partial["self_intersecting_pairs"].is_null());
+  const CommandResult counted = Cli("report --json --memory-limit -1 " + Quote(soup));
+  ASSERT_EQ(counted.exitCode, 0) << counted.err;
+  EXPECT_TRUE(counted.err.empty()) << counted.err;
+  EXPECT_GT(nlohmann::json::parse(counted.out)["self_intersecting_pairs"].get<int>(), n);
+  // A molecular surface is counted under the default limit, without a warning.
+  const CommandResult real = Cli("report --json " + Quote(BundledMesh("lysozyme_Lys1_msms.ply")));
+  EXPECT_EQ(real.exitCode, 0);
+  EXPECT_TRUE(real.err.empty()) << real.err;
+  EXPECT_FALSE(nlohmann::json::parse(real.out)["self_intersecting_pairs"].is_null());
+  EXPECT_NE(Cli("report --help").out.find("--memory-limit"), std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Output levels of remesh, on the bundled lysozyme surface (runs from a clone alone).
+// ------------------------------------------------------------------------------------------------
+
+// Default: one summary line on stderr (no progress: stderr is not a terminal here), nothing on stdout.
+TEST(CliOutputLevels, DefaultIsOneSummaryLine) {
+  const auto dir = TempDir("cli_level_default");
+  const std::string in = BundledMesh("lysozyme_Lys1_msms.ply"), out = (dir / "out.ply").string();
+  const CommandResult r = Cli("remesh " + Quote(in) + " " + Quote(out));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_EQ(LineCount(r.err), 1u) << r.err;
+  EXPECT_EQ(r.err.rfind("molremesh: " + in + " -> " + out + ": 14398 -> ", 0), 0u) << r.err;
+  ExpectMentions(r.err,
+                 {" faces, θmin 0.0° -> ", "θmax 176.3° -> ", "V567 93.17 % -> ", "SI 0 -> 0, ", " s\n"});
+  // The figures are the output's: its face count is the one the report gives.
+  const auto report = nlohmann::json::parse(Cli("report --json --no-self-intersections " + Quote(out)).out);
+  EXPECT_NE(r.err.find("14398 -> " + std::to_string(report["faces"].get<int>()) + " faces"),
+            std::string::npos);
+  std::filesystem::remove_all(dir);
+}
+
+// --quiet: nothing at all on success; --verbose: progress, the per-stage table and the summaries;
+// --json: the same file at every level.
+TEST(CliOutputLevels, QuietPrintsNothingAndVerbosePrintsTheStageTables) {
+  const auto dir = TempDir("cli_levels");
+  const std::string in = Quote(BundledMesh("lysozyme_Lys1_msms.ply"));
+  const std::string stages = "--stages clean,cvt,valence --cvt-iterations 3 ";
+  auto run = [&](const std::string& level) {
+    const std::string out = Quote((dir / "out.ply").string()),
+                      json = Quote((dir / (level + ".json")).string());
+    return Cli("remesh " + stages + level + " " + in + " " + out + " --json " + json);
+  };
+  const CommandResult quiet = run("--quiet");
+  ASSERT_EQ(quiet.exitCode, 0) << quiet.err;
+  EXPECT_TRUE(quiet.out.empty()) << quiet.out;
+  EXPECT_TRUE(quiet.err.empty()) << quiet.err;
+  const CommandResult verbose = run("--verbose");
+  ASSERT_EQ(verbose.exitCode, 0) << verbose.err;
+  ExpectMentions(verbose.out, {"Remeshed ", "V567", "stage times (s): clean=", "-- clean:", "-- valence:"});
+  ExpectMentions(verbose.err, {"molremesh: stage clean", "molremesh: stage valence", " -> "});
+  auto withoutTimes = [](nlohmann::json j) {
+    j.erase("seconds");
+    for (auto& stage : j["stages"]) stage.erase("seconds");
+    return j;
+  };
+  const auto quietJson = withoutTimes(ReadJson((dir / "--quiet.json").string()));
+  EXPECT_EQ(quietJson, withoutTimes(ReadJson((dir / "--verbose.json").string())));
+  EXPECT_EQ(quietJson["stages"].size(), 3u);
+  std::filesystem::remove_all(dir);
+}
+
+// A fresh clone with no ../shared beside it: the bundled data are there (under 2 MB) and the
+// demo's CLI part (report, color, full pipeline on each bundled mesh) runs on them.
+TEST(CliFromAClone, DemoRunsOnTheBundledData) {
+  if (std::system("git --version >/dev/null 2>&1") != 0) GTEST_SKIP() << "git not found";
+  const auto dir = TempDir("cli_clone");
+  const auto clone = dir / "molremesh";
+  ASSERT_FALSE(std::filesystem::exists(dir / "shared"));
+  const CommandResult cloned =
+      molremesh::test::Run("git clone -q " + Quote(MOLREMESH_SOURCE_DIR) + " " + Quote(clone.string()));
+  ASSERT_EQ(cloned.exitCode, 0) << cloned.err;
+  std::uintmax_t bytes = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(clone / "data")) bytes += entry.file_size();
+  EXPECT_LT(bytes, 2u << 20);
+  const auto out = dir / "demo_output";
+  const CommandResult demo =
+      molremesh::test::Run("MOLREMESH=" + Quote(kCli) + " OUT_DIR=" + Quote(out.string()) + " bash " +
+                           Quote((clone / "scripts" / "demo.sh").string()) + " --cli-only");
+  ASSERT_EQ(demo.exitCode, 0) << demo.out << demo.err;
+  for (const char* mesh : {"lysozyme_Lys1_msms", "ubiquitin_1UBQ_edtsurf_mc"}) {
+    ExpectMentions(demo.out, {"quality report (CLI)", "V567", "irregular vertices (red)"});
+    for (const char* suffix : {"_colored.ply", "_remeshed.ply", "_remeshed.json", "_remeshed_colored.ply"})
+      EXPECT_TRUE(std::filesystem::exists(out / (std::string(mesh) + suffix))) << mesh << suffix;
+    const auto j = ReadJson((out / (std::string(mesh) + "_remeshed.json")).string());
+    EXPECT_TRUE(j["verdict"]["valid"].get<bool>()) << mesh;
+  }
+  // One summary line per remesh run, and no warning.
+  EXPECT_EQ(LineCount(demo.err), 2u) << demo.err;
+  EXPECT_EQ(demo.err.find("warning"), std::string::npos) << demo.err;
   std::filesystem::remove_all(dir);
 }

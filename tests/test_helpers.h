@@ -16,10 +16,26 @@
   GTEST_SKIP() << "shared data not found at " MOLREMESH_SHARED_DATA_DIR                                      \
                   "/meshes: this test needs the real molecular meshes (configure MOLREMESH_SHARED_DATA_DIR)"
 
+/// First statement of a test on the real mesh `name`: skips it, saying why, when neither the
+/// repository's data/ nor the shared data has it.
+#define MOLREMESH_SKIP_WITHOUT_MESH(name)                                                                    \
+  if (!std::filesystem::exists(::molremesh::test::RealMesh(name)))                                           \
+  GTEST_SKIP() << "shared data not found at " MOLREMESH_SHARED_DATA_DIR                                      \
+                  "/meshes: this test needs the real molecular meshes (configure MOLREMESH_SHARED_DATA_DIR)"
+
 namespace molremesh::test {
 
 inline std::string SharedMesh(const std::string& name) {
   return std::string(MOLREMESH_SHARED_DATA_DIR) + "/meshes/" + name;
+}
+/// A mesh bundled with the repository (data/): there in every clone.
+inline std::string BundledMesh(const std::string& name) {
+  return std::string(MOLREMESH_BUNDLED_DATA_DIR) + "/" + name;
+}
+/// A real mesh: its bundled copy when data/ has one (the same bytes), else the shared one.
+inline std::string RealMesh(const std::string& name) {
+  const std::string bundled = BundledMesh(name);
+  return std::filesystem::exists(bundled) ? bundled : SharedMesh(name);
 }
 /// Whether the shared molecular meshes are there; the tests on them skip when they are not.
 inline bool SharedDataFound() {

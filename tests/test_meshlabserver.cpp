@@ -65,8 +65,8 @@ TEST(MeshlabServer, ListsOurFilters) {
 class MeshlabServerOnMesh : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MeshlabServerOnMesh, ColorScriptMatchesCliCounts) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
-  const std::string input = SharedMesh(GetParam());
+  MOLREMESH_SKIP_WITHOUT_MESH(GetParam());
+  const std::string input = RealMesh(GetParam());
   const auto dir = TempDir("mls_color");
   const std::string output = (dir / "colored.ply").string();
   const CommandResult r = Server("-i " + Quote(input) + " -o " + Quote(output) + " -m vc fc vq fq -s " +
@@ -107,8 +107,8 @@ TEST_P(MeshlabServerOnMesh, ColorScriptMatchesCliCounts) {
 }
 
 TEST_P(MeshlabServerOnMesh, QualityReportScriptLogsTheCliFigures) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
-  const std::string input = SharedMesh(GetParam());
+  MOLREMESH_SKIP_WITHOUT_MESH(GetParam());
+  const std::string input = RealMesh(GetParam());
   const auto dir = TempDir("mls_report");
   const std::string logFile = (dir / "log.txt").string();
   const CommandResult r = Server("-l " + Quote(logFile) + " -i " + Quote(input) + " -s " +
@@ -137,9 +137,9 @@ INSTANTIATE_TEST_SUITE_P(SharedMeshes, MeshlabServerOnMesh, ::testing::ValuesIn(
                          });
 
 TEST(MeshlabServer, CleanThenCvtScriptsMatchTheCliPipeline) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
+  MOLREMESH_SKIP_WITHOUT_MESH("ubiquitin_1UBQ_edtsurf_mc.ply");
   // The defective marching-cubes mesh: cracks, non-manifold vertices, tiny components.
-  const std::string input = SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply");
+  const std::string input = RealMesh("ubiquitin_1UBQ_edtsurf_mc.ply");
   const auto dir = TempDir("mls_cvt");
   const std::string viaServer = (dir / "server.ply").string();
   const std::string viaCli = (dir / "cli.ply").string();
@@ -260,8 +260,8 @@ std::string Name(const ::testing::TestParamInfo<std::string>& info) {
 class MeshlabServerRemesh : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MeshlabServerRemesh, CleanCvtRarScriptGivesAValidMeshLikeTheCli) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
-  const std::string input = SharedMesh(GetParam());
+  MOLREMESH_SKIP_WITHOUT_MESH(GetParam());
+  const std::string input = RealMesh(GetParam());
   const auto dir = TempDir("mls_remesh");
   const std::string viaServer = (dir / "server.ply").string();
   const std::string viaCli = (dir / "cli.ply").string();
@@ -420,8 +420,8 @@ TEST(MeshlabServer, RemeshScriptsRefuseASingleTriangle) {
 class MeshlabServerFullPipeline : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MeshlabServerFullPipeline, FullPipelineScriptMeetsTheAcceptanceFigures) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
-  const std::string input = SharedMesh(GetParam());
+  MOLREMESH_SKIP_WITHOUT_MESH(GetParam());
+  const std::string input = RealMesh(GetParam());
   const auto dir = TempDir("mls_full");
   const std::string viaServer = (dir / "server.ply").string();
   const std::string cleanedFile = (dir / "cleaned.ply").string();
@@ -455,8 +455,8 @@ INSTANTIATE_TEST_SUITE_P(AllSharedMeshes, MeshlabServerFullPipeline, ::testing::
 class MeshlabServerValence : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(MeshlabServerValence, CleanCvtValenceScriptsReachV567) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
-  const std::string input = SharedMesh(GetParam());
+  MOLREMESH_SKIP_WITHOUT_MESH(GetParam());
+  const std::string input = RealMesh(GetParam());
   const auto dir = TempDir("mls_valence");
   const std::string viaServer = (dir / "server.ply").string();
   const std::string viaCli = (dir / "cli.ply").string();

@@ -209,8 +209,8 @@ TEST_F(PluginTest, ReportOnNonManifoldAndDegenerateInputChangesNothing) {
 }
 
 TEST_F(PluginTest, ReportLogsTheTableOfARealMesh) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
-  MeshModel* mm = AddLayer(SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"));
+  MOLREMESH_SKIP_WITHOUT_MESH("ubiquitin_1UBQ_edtsurf_mc.ply");
+  MeshModel* mm = AddLayer(RealMesh("ubiquitin_1UBQ_edtsurf_mc.ply"));
   const LayerSnapshot before = LayerSnapshot::Of(*mm);
   ASSERT_TRUE(Apply(kReport, *mm)) << plugin->errorMsg().toStdString();
   EXPECT_TRUE(LayerSnapshot::Of(*mm) == before);
@@ -222,9 +222,10 @@ TEST_F(PluginTest, ReportLogsTheTableOfARealMesh) {
 }
 
 TEST_F(PluginTest, ColoringAgreesWithTheQualityReport) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
+  MOLREMESH_SKIP_WITHOUT_MESH("ubiquitin_1UBQ_edtsurf_mc.ply");
+  MOLREMESH_SKIP_WITHOUT_MESH("lysozyme_Lys1_msms.ply");
   for (const std::string& path :
-       {SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), SharedMesh("lysozyme_Lys1_msms.ply"),
+       {RealMesh("ubiquitin_1UBQ_edtsurf_mc.ply"), RealMesh("lysozyme_Lys1_msms.ply"),
         Fixture("nonmanifold_fan.ply"), Fixture("degenerate_faces.ply")}) {
     MeshModel* mm = AddLayer(path);
     ASSERT_TRUE(Apply(kColor, *mm)) << plugin->errorMsg().toStdString();
@@ -266,8 +267,8 @@ TEST_F(PluginTest, CleanMakesANonManifoldLayerManifold) {
 }
 
 TEST_F(PluginTest, CleanClosesTheCracksOfARealMarchingCubesMesh) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
-  MeshModel* mm = AddLayer(SharedMesh("ubiquitin_1UBQ_edtsurf_mc.ply"));
+  MOLREMESH_SKIP_WITHOUT_MESH("ubiquitin_1UBQ_edtsurf_mc.ply");
+  MeshModel* mm = AddLayer(RealMesh("ubiquitin_1UBQ_edtsurf_mc.ply"));
   ASSERT_TRUE(Apply(kClean, *mm)) << plugin->errorMsg().toStdString();
   const molremesh::QualityReport after = molremesh::MeshQuality<CMeshO>::Compute(document.mm()->cm);
   EXPECT_EQ(after.boundaryEdges, 0u);
@@ -361,8 +362,8 @@ TEST_F(PluginTest, ResamplingFiltersRefuseARunBeyondTheMemoryLimit) {
 }
 
 TEST_F(PluginTest, SegmentationColorsPatchesAndStoresTheirIds) {
-  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
-  MeshModel* mm = AddLayer(SharedMesh("lysozyme_Lys1_msms.ply"));
+  MOLREMESH_SKIP_WITHOUT_MESH("lysozyme_Lys1_msms.ply");
+  MeshModel* mm = AddLayer(RealMesh("lysozyme_Lys1_msms.ply"));
   const LayerSnapshot before = LayerSnapshot::Of(*mm);
   ASSERT_TRUE(Apply(kSegment, *mm)) << plugin->errorMsg().toStdString();
   EXPECT_EQ(before.coords, LayerSnapshot::Of(*mm).coords) << "segmentation must not move vertices";

@@ -5,11 +5,17 @@
 // runs: the result is deterministic only when body writes nothing but per-index outputs (and
 // per-thread scratch passed by the thread index). All molremesh parallel loops follow that
 // rule, which makes their output bit-identical for any thread count.
+//
+// A thread the system refuses to start (std::system_error: too many threads, no memory for a
+// stack) is not an error of the loop: the threads already running, the calling thread among them,
+// take the blocks it would have taken, so the loop finishes with the same result on fewer threads
+// instead of leaving joinable threads behind (std::terminate).
 #pragma once
 
 #include <algorithm>
 #include <atomic>
 #include <cstddef>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -42,7 +48,13 @@ void ParallelFor(std::size_t n, int threads, Body&& body, std::size_t block = 10
   };
   std::vector<std::thread> pool;
   pool.reserve(threads - 1);
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker, t);
+  for (int t = 1; t < threads; ++t) {
+    try {
+      pool.emplace_back(worker, t);
+    } catch (const std::system_error&) {
+      break; // run on the threads that started
+    }
+  }
   worker(0);
   for (auto& th : pool) th.join();
 }
