@@ -5,6 +5,7 @@
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/volume/level_set_grid.h>
+#include <vcg_ext/volume/volumetric_rebuild.h>
 
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"
@@ -59,4 +60,158 @@ TEST(VolumeLayer, QuadsAreSplitAlongTheirShorterDiagonal) {
   EXPECT_EQ(t[1], openvdb::Vec3I(0, 2, 3));
   EXPECT_EQ(t[2], openvdb::Vec3I(4, 5, 7));
   EXPECT_EQ(t[3], openvdb::Vec3I(5, 6, 7));
+}
+
+// ------------------------------------------------------------------------------------------------
+// VolumetricRebuild on constructed inputs
+// ------------------------------------------------------------------------------------------------
+
+namespace {
+
+using Rebuild = VolumetricRebuild<MeshD>;
+
+double BallVolume(double r) {
+  return 4.0 / 3.0 * kPi * r * r * r;
+}
+
+/// Volume of the union of two balls of radius r whose centers are d apart (d < 2r).
+double TwoBallUnionVolume(double r, double d) {
+  const double lens = kPi * (4 * r + d) * (2 * r - d) * (2 * r - d) / 12.0;
+  return 2 * BallVolume(r) - lens;
+}
+
+void Flip(MeshD& m) {
+  for (auto& f : m.face)
+    if (!f.IsD()) std::swap(f.V(1), f.V(2));
+}
+
+/// Every face with its own three vertices (an OBJ export of PyMOL, say).
+void Unweld(MeshD& m) {
+  MeshD soup;
+  for (const auto& f : m.face) {
+    if (f.IsD()) continue;
+    auto v = vcg::tri::Allocator<MeshD>::AddVertices(soup, 3);
+    for (int k = 0; k < 3; ++k) v[k].P() = f.cP(k);
+    vcg::tri::Allocator<MeshD>::AddFace(soup, &*v, &*(v + 1), &*(v + 2));
+  }
+  m.Clear();
+  vcg::tri::Append<MeshD, MeshD>::MeshCopy(m, soup);
+}
+
+void Ball(MeshD& m, double r, const Point& c = Point(0, 0, 0)) {
+  Icosphere(m, 4, c, Point(r, r, r));
+}
+
+/// The rebuild succeeded and its output is what it promises: closed, 2-manifold, consistently
+/// oriented outward, without degenerate faces or self-intersections.
+void ExpectValidRebuild(const Rebuild::Result& r, const MeshD& out) {
+  ASSERT_TRUE(r.ok) << r.message;
+  ExpectValidClosedSurface(Measure(out));
+  const ClosedComponents c = MeasureClosedComponents(out);
+  EXPECT_EQ(c.misorientedEdges, 0u);
+  EXPECT_EQ(c.unpairedEdges, 0u);
+  EXPECT_GT(r.volumeOut, 0.0);
+  EXPECT_EQ(r.facesOut, std::size_t(out.fn));
+}
+
+} // namespace
+
+TEST(VolumetricRebuild, InterpenetratingSpheresBecomeTheBoundaryOfTheirUnion) {
+  MeshD m, second;
+  Ball(m, 10);
+  Ball(second, 10, Point(12, 0, 0));
+  AppendMesh(m, second);
+  const Rebuild::Result r = Rebuild::Do(m);
+  ExpectValidRebuild(r, m);
+  EXPECT_EQ(r.bodies, 1u);
+  EXPECT_EQ(r.cavities, 0u);
+  // The inputs are inscribed icospheres (0.3 % below the balls); the voxels add < 0.5 %.
+  EXPECT_NEAR(r.volumeOut, TwoBallUnionVolume(10, 12), 0.01 * TwoBallUnionVolume(10, 12));
+  EXPECT_LT(r.areaOut, r.areaIn); // the two caps inside the other sphere are gone
+}
+
+TEST(VolumetricRebuild, CavityIsKeptFacingTheVoid) {
+  MeshD m, cavity;
+  Ball(m, 10);
+  Ball(cavity, 4, Point(1, 1, 1));
+  Flip(cavity); // a cavity's normals point into the void
+  AppendMesh(m, cavity);
+  const Rebuild::Result r = Rebuild::Do(m);
+  ExpectValidRebuild(r, m);
+  EXPECT_EQ(r.bodies, 1u);
+  EXPECT_EQ(r.cavities, 1u);
+  const double expected = BallVolume(10) - BallVolume(4);
+  EXPECT_NEAR(r.volumeOut, expected, 0.01 * expected);
+  const ClosedComponents c = MeasureClosedComponents(m);
+  ASSERT_EQ(c.volumes.size(), 2u);
+  EXPECT_NEAR(c.volumes[1], -BallVolume(4), 0.02 * BallVolume(4));
+}
+
+TEST(VolumetricRebuild, InwardMeshIsTurnedOutwardAndItsCavityKept) {
+  MeshD m, cavity;
+  Ball(m, 10);
+  Ball(cavity, 4);
+  Flip(cavity);
+  AppendMesh(m, cavity);
+  Flip(m); // everything inward, as marching cubes with the default gradient direction gives
+  const Rebuild::Result r = Rebuild::Do(m);
+  ExpectValidRebuild(r, m);
+  EXPECT_EQ(r.orientationSign, -1);
+  EXPECT_LT(r.volumeIn, 0.0);
+  EXPECT_EQ(r.bodies, 1u);
+  EXPECT_EQ(r.cavities, 1u);
+  EXPECT_NEAR(r.volumeOut, -r.volumeIn, 0.01 * -r.volumeIn);
+}
+
+TEST(VolumetricRebuild, SeparatePartsAreKept) {
+  MeshD m, second;
+  Ball(m, 5);
+  Ball(second, 3, Point(20, 0, 0));
+  AppendMesh(m, second);
+  const Rebuild::Result r = Rebuild::Do(m);
+  ExpectValidRebuild(r, m);
+  EXPECT_EQ(r.bodies, 2u);
+  EXPECT_NEAR(r.volumeOut, r.volumeIn, 0.01 * r.volumeIn);
+}
+
+TEST(VolumetricRebuild, SoupWithASmallCrackIsClosed) {
+  MeshD m;
+  Ball(m, 10);
+  const double volume = Measure(m).volume;
+  vcg::tri::Allocator<MeshD>::DeleteFace(m, m.face[0]); // a crack of one face, about 2 voxels
+  vcg::tri::Allocator<MeshD>::DeleteFace(m, m.face[1]);
+  Unweld(m);
+  ASSERT_GT(Measure(m).boundaryEdges, 0u);
+  const Rebuild::Result r = Rebuild::Do(m);
+  ExpectValidRebuild(r, m);
+  EXPECT_EQ(r.bodies, 1u);
+  EXPECT_NEAR(r.volumeOut, volume, 0.01 * volume);
+}
+
+TEST(VolumetricRebuild, RefusedRunsLeaveTheMeshUntouched) {
+  MeshD empty;
+  Rebuild::Result r = Rebuild::Do(empty);
+  EXPECT_FALSE(r.ok);
+  EXPECT_FALSE(r.message.empty());
+  EXPECT_EQ(empty.fn, 0);
+
+  MeshD m;
+  Ball(m, 10);
+  std::vector<double> before;
+  for (const auto& v : m.vert) before.insert(before.end(), {v.cP()[0], v.cP()[1], v.cP()[2]});
+  Rebuild::Params tiny;
+  tiny.memoryLimitMB = 1;
+  r = Rebuild::Do(m, tiny);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.message.find("MB"), std::string::npos) << r.message;
+  std::vector<double> after;
+  for (const auto& v : m.vert) after.insert(after.end(), {v.cP()[0], v.cP()[1], v.cP()[2]});
+  EXPECT_EQ(after, before);
+
+  MeshD sheet; // an open sheet encloses nothing
+  Grid(sheet, 10, 10.0);
+  const std::size_t faces = std::size_t(sheet.fn);
+  r = Rebuild::Do(sheet);
+  EXPECT_FALSE(r.ok);
+  EXPECT_EQ(std::size_t(sheet.fn), faces);
 }
