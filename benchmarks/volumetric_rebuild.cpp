@@ -2,6 +2,7 @@
 // measurements of docs/design.md): usage volumetric_rebuild IN [OUT] [--voxel H] [--threads N].
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/volume/volumetric_rebuild.h>
 
 #include <nlohmann/json.hpp>
@@ -36,6 +37,29 @@ int main(int argc, char** argv) {
     std::cerr << "volumetric_rebuild: " << error << "\n";
     return 1;
   }
+  // The input's defects as a welded mesh (a PyMOL OBJ is a soup: every corner its own vertex).
+  nlohmann::json defects;
+  {
+    MeshD welded;
+    vcg::tri::Append<MeshD, MeshD>::MeshCopy(welded, m);
+    vcg::tri::Clean<MeshD>::RemoveDuplicateVertex(welded);
+    vcg::tri::Allocator<MeshD>::CompactEveryVector(welded);
+    MeshQuality<MeshD>::Params p;
+    p.threads = params.threads;
+    const QualityReport q = MeshQuality<MeshD>::Compute(welded, p);
+    const ClosedComponents c = MeasureClosedComponents(welded);
+    defects = {{"faces", q.faces},
+               {"non_manifold_edges", q.nonManifoldEdges},
+               {"non_manifold_vertices", q.nonManifoldVertices},
+               {"boundary_edges", q.boundaryEdges},
+               {"degenerate_faces", q.degenerateFaces},
+               {"si_pairs", q.selfIntersectingPairs},
+               {"adjacent_overlap_pairs", q.adjacentOverlapPairs},
+               {"misoriented_edges", c.misorientedEdges},
+               {"components", q.components},
+               {"volume", q.volume},
+               {"area", q.area}};
+  }
   const auto start = std::chrono::steady_clock::now();
   const VolumetricRebuild<MeshD>::Result r = VolumetricRebuild<MeshD>::Do(m, params);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -57,6 +81,22 @@ int main(int argc, char** argv) {
                       {"orientation_sign", r.orientationSign},
                       {"bodies", r.bodies},
                       {"cavities", r.cavities}};
+  j["input_welded"] = defects;
+  if (r.ok) {
+    const QualityReport q = MeshQuality<MeshD>::Compute(m);
+    const ClosedComponents c = MeasureClosedComponents(m);
+    j["output"] = {{"boundary_edges", q.boundaryEdges},
+                   {"non_manifold_edges", q.nonManifoldEdges},
+                   {"non_manifold_vertices", q.nonManifoldVertices},
+                   {"degenerate_faces", q.degenerateFaces},
+                   {"si_pairs", q.selfIntersectingPairs + q.adjacentOverlapPairs},
+                   {"misoriented_edges", c.misorientedEdges},
+                   {"components", q.components},
+                   {"genus", q.genus},
+                   {"angle_min", q.angleMin},
+                   {"angle_max", q.angleMax},
+                   {"component_volumes", c.volumes}};
+  }
   std::cout << j.dump() << "\n";
   if (r.ok && !out.empty() && !SaveMesh(m, out, error)) {
     std::cerr << "volumetric_rebuild: " << error << "\n";

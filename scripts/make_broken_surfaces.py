@@ -10,6 +10,8 @@ triangle), and marching cubes of a Gaussian density with scikit-image's default 
 folder given on the command line; the meshes are not kept in the repository, only these settings.
 
 usage: /usr/bin/python3 scripts/make_broken_surfaces.py OUTDIR [--only NAME ...]
+       /usr/bin/python3 scripts/make_broken_surfaces.py --fixtures OUTDIR
+--fixtures writes the small test fixtures of tests/data (FIXTURES) instead.
 Needs Debian's python3-pymol and python3-skimage (the system interpreter, /usr/bin/python3).
 """
 
@@ -52,6 +54,24 @@ cmd.show('surface')
 cmd.save(sys.argv[2])
 """
 
+# The test fixtures (tests/data, each < 150 KB): PyMOL SES of two small selections of the HIV
+# protease dimer 1HPV that interpenetrate at its dimer interface (the catalytic Asp25 of each chain
+# and its neighbours), each a closed sheet exported as a soup, and the inward Gaussian surface of one.
+FIXTURE_SELECTIONS = {"a": "chain A and resi 25-27", "b": "chain B and resi 25-27"}
+
+PYMOL_FIXTURE_SCRIPT = """
+import sys
+from pymol import cmd
+cmd.load(sys.argv[1], 'm')
+cmd.remove('solvent or hydro')
+cmd.set('surface_quality', 0)
+cmd.set('surface_type', 0)
+cmd.create('part', sys.argv[3])
+cmd.hide('everything')
+cmd.show('surface', 'part')
+cmd.save(sys.argv[2])
+"""
+
 RADII = {"C": 1.7, "N": 1.55, "O": 1.52, "S": 1.8, "P": 1.8, "H": 1.1}
 
 
@@ -67,8 +87,9 @@ def structure_file(name, work):
     return unzipped
 
 
-def heavy_atoms(pdb):
-    """Centers and radii of the non-water heavy atoms of a PDB file."""
+def heavy_atoms(pdb, select=None):
+    """Centers and radii of the non-water heavy atoms of a PDB file (select: (chain, first residue,
+    last residue) to keep only those)."""
     centers, radii = [], []
     with open(pdb) as f:
         for line in f:
@@ -77,18 +98,20 @@ def heavy_atoms(pdb):
             element = (line[76:78].strip() or line[12:14].strip().lstrip("0123456789"))[:1].upper()
             if element == "H":
                 continue
+            if select and (line[21] != select[0] or not select[1] <= int(line[22:26]) <= select[2]):
+                continue
             centers.append((float(line[30:38]), float(line[38:46]), float(line[46:54])))
             radii.append(RADII.get(element, 1.8))
     return centers, radii
 
 
-def gaussian_surface(pdb, path, grid, decay, level):
+def gaussian_surface(pdb, path, grid, decay, level, select=None):
     """Marching cubes of sum_i exp(-decay (|x - c_i|^2 / r_i^2 - 1)) at the level, as scikit-image
     returns it (default gradient direction: the triangles face the inside)."""
     import numpy as np
     from skimage import measure
 
-    centers, radii = heavy_atoms(pdb)
+    centers, radii = heavy_atoms(pdb, select)
     c, r = np.array(centers), np.array(radii)
     lo, hi = c.min(axis=0) - 6.0, c.max(axis=0) + 6.0
     shape = np.ceil((hi - lo) / grid).astype(int) + 1
@@ -131,9 +154,25 @@ def generate(entry, out, timeout):
     return path if os.path.exists(path) else None
 
 
+def make_fixtures(out):
+    """The fixtures of tests/data (see FIXTURE_SELECTIONS)."""
+    pdb = structure_file("1HPV", out)
+    script = os.path.join(out, "pymol_fixture.py")
+    with open(script, "w") as f:
+        f.write(PYMOL_FIXTURE_SCRIPT)
+    for key, selection in sorted(FIXTURE_SELECTIONS.items()):
+        path = os.path.join(out, "1hpv_pymol_asp25_%s.obj" % key)
+        subprocess.run(["/usr/bin/python3", script, pdb, path, selection], check=True, stdout=subprocess.DEVNULL)
+        print(path)
+    path = os.path.join(out, "1hpv_gaussian_inward_asp25_a.obj")
+    gaussian_surface(pdb, path, 0.6, 1.0, 1.0, ("A", 25, 27))
+    print(path)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("out", help="folder the surfaces are written to (outside the repository)")
+    p.add_argument("--fixtures", action="store_true", help="write the test fixtures of tests/data instead")
     p.add_argument("--only", nargs="*", help="names (or parts of names) of the inputs to make")
     p.add_argument("--timeout", type=float, default=1800)
     args = p.parse_args()
@@ -141,6 +180,9 @@ def main():
     if out == REPO or out.startswith(REPO + os.sep):
         sys.exit("make_broken_surfaces: write the surfaces outside the repository")
     os.makedirs(out, exist_ok=True)
+    if args.fixtures:
+        make_fixtures(out)
+        return
     for entry in INPUTS:
         if args.only and not any(part in entry[0] for part in args.only):
             continue
