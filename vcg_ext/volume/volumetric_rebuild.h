@@ -184,15 +184,19 @@ VoxelBox VolumetricRebuild<MeshType>::BoxAround(const VdbPolygons& polygons, dou
 }
 
 /// Dense labels (4 bytes a voxel), the distance grid and its signed copy, the watershed's front
-/// (12 bytes a shell voxel), the input in double for the winding numbers and the mesher's output
-/// (about 2 faces per surface voxel, ~300 bytes a face with the vcg mesh and the checks).
+/// (12 bytes a shell voxel), the input in double and float (100 bytes a face), and the mesher's
+/// output: 3 faces per surface voxel (measured 3.0 on PyMOL surfaces), ~500 bytes each for its
+/// polygons, the vcg mesh, its copy into the input mesh and the validity checks. What the rebuild
+/// adds to the caller's memory; the peak resident memory of benchmarks/volumetric_rebuild, which
+/// also holds the input soup and the process: 1MAH PyMOL SES (118k faces) estimate 469 MB, peak
+/// 385 MB; 1HPV cavity-mode SES (18k faces) 72 MB, peak 102 MB.
 template <class MeshType>
 double VolumetricRebuild<MeshType>::EstimateBytes(const VoxelBox& box, double area, double h,
                                                   double bandVoxels, std::size_t facesIn) {
   const double band = NarrowBandVoxels(area, h, bandVoxels);
   const double surfaceVoxels = area / (h * h);
   return 4.0 * double(box.Size()) + 2.0 * SparseGridBytes(band) + 12.0 * band + 100.0 * double(facesIn) +
-         300.0 * 2.0 * surfaceVoxels;
+         500.0 * 3.0 * surfaceVoxels;
 }
 
 template <class MeshType>
