@@ -8,6 +8,8 @@
 #include <vcg_ext/volume/level_set_grid.h>
 #include <vcg_ext/volume/volumetric_rebuild.h>
 
+#include <tbb/global_control.h>
+
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"
 
@@ -314,4 +316,28 @@ TEST(VolumetricRebuild, InwardGaussianSurfaceIsTurnedOutward) {
   EXPECT_EQ(r.orientationSign, -1);
   EXPECT_EQ(r.bodies, 1u);
   EXPECT_NEAR(r.volumeOut, -inward, 0.01 * -inward);
+}
+
+TEST(VolumetricRebuild, SameOutputForAnyThreadCount) {
+  MeshD one, two, b;
+  LoadFixture(one, "1hpv_pymol_asp25_a.obj");
+  LoadFixture(b, "1hpv_pymol_asp25_b.obj");
+  AppendMesh(one, b);
+  vcg::tri::Append<MeshD, MeshD>::MeshCopy(two, one);
+  Rebuild::Params p1, p2;
+  p1.threads = 1;
+  p2.threads = 2;
+  Rebuild::Result r1, r2;
+  {
+    tbb::global_control single(tbb::global_control::max_allowed_parallelism, 1); // OpenVDB's threads too
+    r1 = Rebuild::Do(one, p1);
+  }
+  r2 = Rebuild::Do(two, p2);
+  ASSERT_TRUE(r1.ok && r2.ok);
+  ASSERT_EQ(one.vert.size(), two.vert.size());
+  ASSERT_EQ(one.face.size(), two.face.size());
+  for (std::size_t i = 0; i < one.vert.size(); ++i) ASSERT_EQ(one.vert[i].cP(), two.vert[i].cP());
+  for (std::size_t i = 0; i < one.face.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      ASSERT_EQ(vcg::tri::Index(one, one.face[i].cV(k)), vcg::tri::Index(two, two.face[i].cV(k)));
 }
