@@ -141,6 +141,14 @@ TEST_F(MeshReaders, PlyTriangleStripsAreReadWithEveryIndexChecked) {
 TEST_F(MeshReaders, PlyCountsBeyondTheFileSizeAreRefusedBeforeAllocating) {
   ExpectRefused(Write("manyv.ply", AsciiPly(300000000, 1, kSquare + "3 0 1 2\n")), "(truncated or corrupt)");
   ExpectRefused(Write("manyf.ply", AsciiPly(4, 2000000000, kSquare + "3 0 1 2\n")), "but the file has");
+  // Fewer elements declared than the file holds: the counts lie, nothing is silently dropped.
+  ExpectRefused(Write("fewer.ply", AsciiPly(4, 1, kSquare + "3 0 1 2\n3 0 2 3\n")),
+                "data after the last declared");
+  std::string fewer = BinaryPly({{0, 1, 2}, {0, 2, 3}});
+  fewer.replace(fewer.find("element face 2"), 14, "element face 1");
+  ExpectRefused(Write("fewerbin.ply", fewer), "data after the last declared element at byte 61");
+  ExpectRefused(Write("fewer.off", "OFF\n4 1 0\n" + kSquare + "3 0 1 2\n3 0 2 3\n"),
+                "data after the last of the 1");
   std::string huge = BinaryPly({{0, 1, 2}});
   huge.replace(huge.find("element face 1"), 14, "element face 4294967296");
   ExpectRefused(Write("hugef.ply", huge), "more than supported");

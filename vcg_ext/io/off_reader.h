@@ -218,6 +218,11 @@ private:
       else
         AppendFanTriangles(corners, raw.triangles);
     }
+    if (lines.NextLine(tokens)) {
+      error = "data after the last of the " + std::to_string(count) + " declared faces at line " +
+              std::to_string(lines.Line()) + " (the header's counts are wrong)";
+      return false;
+    }
     return true;
   }
 

@@ -96,6 +96,15 @@ public:
       if (!ReadAscii(type, ignored, error)) return false;
     return true;
   }
+  /// After the last element only whitespace may follow: more data means the counts lie.
+  bool CheckEnd(std::string& error) {
+    const bool atEnd = format_ == Format::Ascii
+                           ? tokens_.AtEnd()
+                           : body_.find_first_not_of(" \t\r\n", pos_) == std::string_view::npos;
+    if (!atEnd)
+      error = "data after the last declared element at " + Where() + " (the header's counts are wrong)";
+    return atEnd;
+  }
   /// Where the reading is (a line, or a byte offset into the data), cheap to take per item.
   std::size_t Mark() { return format_ == Format::Ascii ? tokens_.NextLine() : pos_; }
   /// A mark for messages.
@@ -331,7 +340,7 @@ public:
         ok = SkipElement(e, body, error);
       if (!ok) return false;
     }
-    return true;
+    return body.CheckEnd(error);
   }
 
 private:
