@@ -54,7 +54,7 @@ mkdir -p "$work/files"
 script=$(cd "$(dirname "$0")" && pwd)/$(basename "$0")
 start=$(date +%s)
 find "$corpus" -maxdepth 1 -type f | sort | awk -v n="$every" '(NR - 1) % n == 0' |
-  xargs -d '\n' -P "$jobs" -n 1 bash "$script" --one "$bin" "$limit" "$work/files" >"$log"
+  xargs -d '\n' -P "$jobs" -n 1 bash "$script" --one "$bin" "$limit" "$work/files" >"$log" 2>/dev/null
 seconds=$(($(date +%s) - start))
 count() { awk -F'\t' -v c="$1" '$1 == c' "$log" | wc -l; }
 files=$(cut -f4 "$log" | sort -u | wc -l)
