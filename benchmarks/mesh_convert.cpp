@@ -1,5 +1,5 @@
 // mesh_convert IN OUT: rewrites a mesh in the format of OUT's extension (.ply, .off, .obj, .stl)
-// with vcglib's reader and writer, geometry and faces only. The benchmark runner uses it to hand
+// with LoadMesh and vcglib's writer, geometry and faces only. The benchmark runner uses it to hand
 // TetGen an ASCII OFF whatever wrote the mesh. Exit status 0, or 2 with one line on stderr.
 #include <iostream>
 #include <string>

@@ -17,6 +17,7 @@ packages=(
   xvfb xauth
   tetgen
   clang-format
+  clang-14 libfuzzer-14-dev
 )
 for option in "$@"; do
   case "$option" in
