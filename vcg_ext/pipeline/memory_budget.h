@@ -27,10 +27,11 @@
 // (2 threads): 4JSV 274 MB, 1HPV 196 MB, lysozyme 12 MB; without the count 147, 109 and 9 MB.
 #pragma once
 
+#include <vcg_ext/core/available_memory.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
-#include <fstream>
 #include <sstream>
 #include <string>
 
@@ -105,15 +106,8 @@ public:
     return s.str();
   }
 
-  /// Bytes this process may still allocate: the system's available memory (Linux: MemAvailable)
-  /// and, inside a container, its cgroup's limit minus its usage. 0 when unknown (the check is
-  /// then skipped).
-  static double AvailableBytes() {
-    double available = ReadMeminfoKB("MemAvailable:") * 1024.0;
-    const double cgroupRoom = CgroupRoom();
-    if (cgroupRoom > 0) available = available > 0 ? std::min(available, cgroupRoom) : cgroupRoom;
-    return available;
-  }
+  /// Bytes this process may still allocate (see AvailableMemoryBytes).
+  static double AvailableBytes() { return AvailableMemoryBytes(); }
 
   /// "" when the run fits under limitMB (0 = the available memory, < 0 = no check), else why not.
   static std::string Check(const MemoryEstimate& e, double limitMB) {
@@ -146,56 +140,6 @@ private:
   }
 
   static double Megabytes(double bytes) { return std::round(bytes / (1024.0 * 1024.0)); }
-
-  static double ReadMeminfoKB(const std::string& key) {
-    std::ifstream in("/proc/meminfo");
-    std::string name;
-    double value = 0;
-    std::string unit;
-    while (in >> name >> value) {
-      std::getline(in, unit);
-      if (name == key) return value;
-    }
-    return 0;
-  }
-
-  static double ReadNumber(const std::string& path) {
-    std::ifstream in(path);
-    std::string word;
-    if (!(in >> word) || word == "max") return 0;
-    try {
-      return std::stod(word);
-    } catch (...) {
-      return 0;
-    }
-  }
-
-  /// The process's cgroup (v2, else v1 memory controller): limit minus usage, 0 when unlimited
-  /// or unknown.
-  static double CgroupRoom() {
-    std::ifstream in("/proc/self/cgroup");
-    std::string line, v2Path, v1Path;
-    while (std::getline(in, line)) {
-      if (line.rfind("0::", 0) == 0) v2Path = line.substr(3);
-      const std::size_t at = line.find(":memory:");
-      if (at != std::string::npos) v1Path = line.substr(at + 8);
-    }
-    auto room = [](double limit, double usage) {
-      // Unlimited cgroups report a limit near 2^63.
-      if (!(limit > 0) || limit > 1e18) return 0.0;
-      return std::max(1.0, limit - usage);
-    };
-    for (const std::string& dir : {"/sys/fs/cgroup" + v2Path, std::string("/sys/fs/cgroup")}) {
-      const double r = room(ReadNumber(dir + "/memory.max"), ReadNumber(dir + "/memory.current"));
-      if (r > 0) return r;
-    }
-    for (const std::string& dir : {"/sys/fs/cgroup/memory" + v1Path, std::string("/sys/fs/cgroup/memory")}) {
-      const double r =
-          room(ReadNumber(dir + "/memory.limit_in_bytes"), ReadNumber(dir + "/memory.usage_in_bytes"));
-      if (r > 0) return r;
-    }
-    return 0;
-  }
 };
 
 } // namespace molremesh

@@ -27,7 +27,7 @@
 
 #include <vcg_ext/core/input_check.h>
 #include <vcg_ext/geometry/mean_edge_length.h>
-#include <vcg_ext/pipeline/memory_budget.h>
+#include <vcg_ext/core/available_memory.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/volume/closed_components.h>
 #include <vcg_ext/volume/level_set_grid.h>
@@ -121,7 +121,7 @@ typename VolumetricRebuild<MeshType>::Result VolumetricRebuild<MeshType>::Do(Mes
   const double bytes = EstimateBytes(box, in.area, h, bandVoxels, in.faces);
   result.estimatedMB = bytes / (1024.0 * 1024.0);
   const double limit = params.memoryLimitMB > 0    ? params.memoryLimitMB * 1024.0 * 1024.0
-                       : params.memoryLimitMB == 0 ? MemoryBudget::AvailableBytes()
+                       : params.memoryLimitMB == 0 ? AvailableMemoryBytes()
                                                    : -1.0;
   if ((limit > 0 && bytes > limit) || box.Size() >= (std::size_t(1) << 32)) {
     std::ostringstream s;
