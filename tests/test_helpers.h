@@ -21,6 +21,9 @@ namespace molremesh::test {
 inline std::string SharedMesh(const std::string& name) {
   return std::string(MOLREMESH_SHARED_DATA_DIR) + "/meshes/" + name;
 }
+inline std::string SharedStructure(const std::string& name) {
+  return std::string(MOLREMESH_SHARED_DATA_DIR) + "/structures/" + name;
+}
 /// Whether the shared molecular meshes are there; the tests on them skip when they are not.
 inline bool SharedDataFound() {
   return std::filesystem::is_directory(std::string(MOLREMESH_SHARED_DATA_DIR) + "/meshes");
