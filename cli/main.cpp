@@ -28,6 +28,7 @@
 #include <vcg_ext/quality/stage_summary.h>
 
 #include "report_json.h"
+#include "surface_command.h"
 
 namespace {
 
@@ -337,6 +338,7 @@ int main(int argc, char** argv) {
   CLI::App* report = AddReportCommand(app, c);
   CLI::App* color = AddColorCommand(app, c);
   CLI::App* remesh = AddRemeshCommand(app, c);
+  molremesh::SurfaceCommand surface(app);
 
   try {
     app.parse(argc, argv);
@@ -348,6 +350,7 @@ int main(int argc, char** argv) {
     if (*report) return RunReport(c.input, c.json, c.skipSelfIntersections, c.reportThreads);
     if (*color) return RunColor(c.input, c.output, c.smallAngle, c.obtuseAngle);
     if (*remesh) return RunRemesh(c.input, c.output, c.remesh);
+    if (surface.Chosen()) return surface.Run();
   } catch (const InputError& e) {
     std::cerr << "molremesh: error: " << e.what() << '\n';
     return kExitBadInput;
