@@ -106,6 +106,7 @@ public:
         " HETATM, " + std::to_string(atoms.skippedAltLocs) + " alternate-location atoms)");
 
     surface_.keepCavities = !outerOnly_;
+    surface_.threads = threads_;
     MeshD mesh;
     const MolecularSurfaceResult surface = MolecularSurface<MeshD>::Build(atoms.atoms, mesh, surface_);
     if (!surface.ok) throw std::runtime_error("'" + input_ + "': " + surface.message);

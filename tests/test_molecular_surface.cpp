@@ -14,7 +14,11 @@
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 using namespace molremesh;
 
@@ -157,13 +161,16 @@ TEST(MolecularSurface, SameBytesForOneAndTwoThreads) {
   const std::vector<Atom> shell = HollowShell(6.0, 1.6);
   for (Kind kind : {Kind::Ses, Kind::Sas, Kind::VanDerWaals, Kind::Gaussian}) {
     MeshD one, two;
+    Surface::Params params = ParamsOf(kind);
     {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 1);
-      Surface::Build(shell, one, ParamsOf(kind));
+      params.threads = 1;
+      Surface::Build(shell, one, params);
     }
     {
       tbb::global_control limit(tbb::global_control::max_allowed_parallelism, 2);
-      Surface::Build(shell, two, ParamsOf(kind));
+      params.threads = 2;
+      Surface::Build(shell, two, params);
     }
     ASSERT_EQ(one.vn, two.vn) << ToString(kind);
     ASSERT_EQ(one.fn, two.fn) << ToString(kind);
@@ -212,6 +219,70 @@ TEST(MolecularSurfaceShared, SasAreaMatchesFreesasaAndSesIsValid) {
     ExpectValidClosedSurface(ses);
     EXPECT_LT(s.area, r.area) << file;
   }
+}
+
+// The command: `molremesh surface IN OUT [--type] [--probe] [--grid] [--remesh]`.
+using molremesh::test::Quote;
+
+const std::string kCli = MOLREMESH_CLI_PATH;
+
+TEST(MolecularSurfaceCli, WritesAValidSurfaceOfASmallPqrAndRefusesBadInputInOneLine) {
+  const auto dir = molremesh::test::TempDir("surface_cli");
+  std::ofstream(dir / "two.pqr") << "ATOM 1 C ALA A 1 0.0 0.0 0.0 0.0 1.8\n"
+                                    "ATOM 2 C ALA A 1 2.5 0.0 0.0 0.0 1.7\n";
+  const std::string out = (dir / "two.ply").string(), json = (dir / "two.json").string();
+  const auto ok = molremesh::test::Run(kCli + " surface " + Quote((dir / "two.pqr").string()) + " " +
+                                       Quote(out) + " --type ses --grid 0.3 --quiet --json " + Quote(json));
+  ASSERT_EQ(ok.exitCode, 0) << ok.err;
+  const nlohmann::json j = nlohmann::json::parse(molremesh::test::ReadFile(json));
+  EXPECT_EQ(j["atoms"], 2);
+  EXPECT_EQ(j["surface"]["type"], "ses");
+  EXPECT_EQ(j["quality"]["boundary_edges"], 0);
+  EXPECT_EQ(j["quality"]["self_intersecting_pairs"], 0);
+  EXPECT_TRUE(std::filesystem::exists(out));
+
+  std::ofstream(dir / "bad.pqr") << "ATOM 1 C ALA A 1 0.0 nan 0.0 0.0 1.8\n";
+  const auto bad = molremesh::test::Run(kCli + " surface " + Quote((dir / "bad.pqr").string()) + " " +
+                                        Quote((dir / "b.ply").string()));
+  EXPECT_EQ(bad.exitCode, 2);
+  EXPECT_NE(bad.err.find("molremesh: error:"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("line 1: coordinate is NaN"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "b.ply"));
+  const auto cif = molremesh::test::Run(kCli + " surface " + Quote((dir / "x.cif").string()) + " " +
+                                        Quote((dir / "c.ply").string()));
+  EXPECT_EQ(cif.exitCode, 2);
+  EXPECT_NE(cif.err.find("mmCIF is not supported"), std::string::npos) << cif.err;
+  const auto kind = molremesh::test::Run(kCli + " surface " + Quote((dir / "two.pqr").string()) + " " +
+                                         Quote(out) + " --type msms");
+  EXPECT_NE(kind.exitCode, 0); // a command-line mistake (CLI11 status)
+  EXPECT_NE(kind.exitCode, 2);
+  const auto memory = molremesh::test::Run(kCli + " surface " + Quote((dir / "two.pqr").string()) + " " +
+                                           Quote((dir / "m.ply").string()) + " --grid 0.05 --memory-limit 1");
+  EXPECT_EQ(memory.exitCode, 2);
+  EXPECT_NE(memory.err.find("MB"), std::string::npos) << memory.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "m.ply"));
+  std::filesystem::remove_all(dir);
+}
+
+// The one-command path on ubiquitin: structure -> SES -> the full pipeline, within its angle bounds.
+TEST(MolecularSurfaceCliShared, RemeshedUbiquitinMeetsThePipelineBounds) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
+  const auto dir = molremesh::test::TempDir("surface_remesh");
+  const std::string out = (dir / "1ubq.ply").string(), json = (dir / "1ubq.json").string();
+  const auto r =
+      molremesh::test::Run(kCli + " surface " + Quote(molremesh::test::SharedStructure("1UBQ.pqr")) + " " +
+                           Quote(out) + " --remesh --quiet --json " + Quote(json));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(molremesh::test::ReadFile(json));
+  const nlohmann::json& q = j["remesh"]["output"];
+  EXPECT_TRUE(j["remesh"]["verdict"]["valid"].get<bool>());
+  EXPECT_GE(q["angle_min_deg"].get<double>(), 30.0);
+  EXPECT_LE(q["angle_max_deg"].get<double>(), 120.0);
+  EXPECT_EQ(q["self_intersecting_pairs"], 0);
+  EXPECT_EQ(q["boundary_edges"], 0);
+  EXPECT_EQ(q["non_manifold_edges"], 0);
+  EXPECT_GE(q["v567_percent"].get<double>(), 99.0);
+  std::filesystem::remove_all(dir);
 }
 
 } // namespace

@@ -9,6 +9,7 @@
 // validity (no flipped face, hence no new intersection from a sub-voxel move) is kept.
 #pragma once
 
+#include <vcg_ext/core/parallel_for.h>
 #include <vcg_ext/geometry/point.h>
 #include <vcg_ext/structure/atoms.h>
 
@@ -116,14 +117,21 @@ private:
   AtomCells cells_;
 };
 
-/// A grid's values by triquadratic interpolation, the gradient by central differences.
+/// A grid's values by triquadratic interpolation, the gradient by central differences. Safe to
+/// call from several threads (each call has its own accessor).
 class QuadraticGridField {
 public:
   explicit QuadraticGridField(const openvdb::FloatGrid& grid)
       : grid_(&grid), step_(0.25 * grid.voxelSize()[0]) {}
   double operator()(const Point& x, Point& gradient) const {
-    openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::QuadraticSampler> sampler(*grid_);
-    auto at = [&](const Point& p) { return double(sampler.wsSample(openvdb::Vec3R(p[0], p[1], p[2]))); };
+    const openvdb::FloatGrid::ConstAccessor accessor = grid_->getConstAccessor();
+    const openvdb::math::Transform& xform = grid_->transform();
+    auto at = [&](const Point& p) {
+      float value = 0;
+      openvdb::tools::QuadraticSampler::sample(accessor, xform.worldToIndex(openvdb::Vec3d(p[0], p[1], p[2])),
+                                               value);
+      return double(value);
+    };
     for (int k = 0; k < 3; ++k) {
       Point e(0, 0, 0);
       e[k] = step_;
@@ -151,19 +159,22 @@ Point ProjectToLevel(const Point& x, const Field& field, double level, double ma
   return y;
 }
 
-/// Moves m's vertices onto field == level (ProjectToLevel); a vertex whose move flips one of its
+/// Moves m's vertices onto field == level (ProjectToLevel, each on its own: the result does not
+/// depend on the thread count); a vertex whose move flips one of its
 /// faces' normals (or makes it degenerate) is put back, until no face is flipped.
 template <class MeshType, class Field>
-void ProjectVerticesToLevel(MeshType& m, const Field& field, double level, double maxMove) {
+void ProjectVerticesToLevel(MeshType& m, const Field& field, double level, double maxMove, int threads = 0) {
   using CoordType = typename MeshType::CoordType;
   using ScalarType = typename MeshType::ScalarType;
   std::vector<Point> before(m.vert.size());
-  for (std::size_t i = 0; i < m.vert.size(); ++i) {
-    before[i] = PositionOf(&m.vert[i]);
-    if (m.vert[i].IsD()) continue;
-    const Point p = ProjectToLevel(before[i], field, level, maxMove);
-    m.vert[i].P() = CoordType(ScalarType(p[0]), ScalarType(p[1]), ScalarType(p[2]));
-  }
+  ParallelFor(m.vert.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      before[i] = PositionOf(&m.vert[i]);
+      if (m.vert[i].IsD()) continue;
+      const Point p = ProjectToLevel(before[i], field, level, maxMove);
+      m.vert[i].P() = CoordType(ScalarType(p[0]), ScalarType(p[1]), ScalarType(p[2]));
+    }
+  });
   auto normalAt = [&](const typename MeshType::FaceType& f, bool original) {
     Point p[3];
     for (int k = 0; k < 3; ++k)

@@ -203,13 +203,16 @@ inline openvdb::FloatGrid::Ptr NegatedGaussianDensity(const std::vector<Atom>& a
 /// exact). OpenVDB's levelSetRebuild signs by flood fill from outside instead and drops the band
 /// around inner surfaces, which would fill every cavity.
 inline openvdb::FloatGrid::Ptr RebuiltDistance(const openvdb::FloatGrid& sas, const BallUnionDistance& balls,
-                                               double h, float inBand) {
+                                               double h, float inBand, int threads) {
   VdbPolygons polygons;
   openvdb::tools::volumeToMesh(sas, polygons.points, polygons.triangles, polygons.quads, 0.0, 0.0);
-  for (openvdb::Vec3s& q : polygons.points) {
-    const Point y = ProjectToLevel(Point(q[0], q[1], q[2]), balls, 0.0, h);
-    q = openvdb::Vec3s(float(y[0]), float(y[1]), float(y[2]));
-  }
+  ParallelFor(polygons.points.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      openvdb::Vec3s& q = polygons.points[i];
+      const Point y = ProjectToLevel(Point(q[0], q[1], q[2]), balls, 0.0, h);
+      q = openvdb::Vec3s(float(y[0]), float(y[1]), float(y[2]));
+    }
+  });
   openvdb::FloatGrid::Ptr distance = UnsignedDistanceGrid(polygons, h, inBand);
   polygons = VdbPolygons();
   openvdb::tools::foreach (distance->beginValueOn(), [&sas](const openvdb::FloatGrid::ValueOnIter& it) {
@@ -235,6 +238,7 @@ public:
     bool keepCavities = true;    ///< false: only the components enclosing positive volume
     float halfWidthVoxels = 3.0; ///< narrow band on each side of the surface, voxels
     double memoryLimitMB = 0;    ///< 0: the memory available at the start; < 0: no check
+    int threads = 0; ///< vertex projection threads, 0 = all cores (OpenVDB uses TBB's); output independent
   };
 
   /// Replaces m's content by the surface of the atoms. Preconditions (checked, a failed result
@@ -336,13 +340,13 @@ private:
     const BallUnionDistance balls(atoms, grow, 2 * h);
     if (p.kind != MolecularSurfaceKind::Ses) {
       LevelSetToMesh(*grid, m, 0.0);
-      ProjectVerticesToLevel(m, balls, 0.0, h);
+      ProjectVerticesToLevel(m, balls, 0.0, h, p.threads);
       return;
     }
-    FloatGrid::Ptr exact = surface_detail::RebuiltDistance(*grid, balls, h, InnerBandVoxels(p));
+    FloatGrid::Ptr exact = surface_detail::RebuiltDistance(*grid, balls, h, InnerBandVoxels(p), p.threads);
     grid.reset();
     LevelSetToMesh(*exact, m, -p.probeRadius);
-    ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, h);
+    ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, h, p.threads);
   }
 
   /// Components, cavities (removed unless kept), area and volume.
