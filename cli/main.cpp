@@ -47,6 +47,7 @@
 #include <vcg_ext/spatial/self_intersections.h>
 
 #include "report_json.h"
+#include "surface_command.h"
 
 namespace {
 
@@ -55,7 +56,7 @@ using molremesh::MeshD;
 constexpr int kExitUsage = 1;         ///< a command-line mistake: nothing was read or written
 constexpr int kExitBadInput = 2;      ///< unusable input, a failed stage, a run refused for memory
 constexpr int kExitInvalidOutput = 3; ///< the output was written, but it is not a valid surface mesh
-const char* const kCommands = "report, color, remesh";
+const char* const kCommands = "report, color, remesh, surface";
 
 struct InputError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -570,7 +571,7 @@ std::string ParseErrorLine(const CLI::ParseError& e, const std::string& command)
 }
 
 bool IsCommand(const std::string& word) {
-  return word == "report" || word == "color" || word == "remesh";
+  return word == "report" || word == "color" || word == "remesh" || word == "surface";
 }
 
 } // namespace
@@ -588,6 +589,7 @@ int main(int argc, char** argv) {
   CLI::App* report = AddReportCommand(app, c);
   CLI::App* color = AddColorCommand(app, c);
   CLI::App* remesh = AddRemeshCommand(app, c);
+  molremesh::SurfaceCommand surface(app);
 
   const std::string first = argc > 1 ? argv[1] : "";
   if (!first.empty() && first[0] != '-' && !IsCommand(first)) {
@@ -616,6 +618,7 @@ int main(int argc, char** argv) {
       c.remesh.threads = ClampThreads(c.remesh.threads);
       return RunRemesh(c.input, c.output, c.remesh);
     }
+    if (surface.Chosen()) return surface.Run();
   } catch (const UsageError& e) {
     std::cerr << "molremesh: error: " << e.what() << '\n';
     return kExitUsage;

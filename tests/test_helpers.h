@@ -37,6 +37,9 @@ inline std::string RealMesh(const std::string& name) {
   const std::string bundled = BundledMesh(name);
   return std::filesystem::exists(bundled) ? bundled : SharedMesh(name);
 }
+inline std::string SharedStructure(const std::string& name) {
+  return std::string(MOLREMESH_SHARED_DATA_DIR) + "/structures/" + name;
+}
 /// Whether the shared molecular meshes are there; the tests on them skip when they are not.
 inline bool SharedDataFound() {
   return std::filesystem::is_directory(std::string(MOLREMESH_SHARED_DATA_DIR) + "/meshes");

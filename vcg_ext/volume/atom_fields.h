@@ -1,0 +1,201 @@
+// Exact scalar fields of a set of atoms, and the projection of extracted vertices onto their level.
+//
+// An isosurface extracted from a grid lies where the trilinear interpolation of the samples
+// crosses the level; for a convex field (the distance to a ball) that is inside the true surface
+// by about h^2 / (8 r): 0.03 Å, 3 % of a hydrogen's area at h = 0.4 Å. Newton steps on the exact
+// field (the union of balls: a projection onto the nearest ball's sphere; the Gaussian density:
+// its sum and gradient) take the vertices onto the true surface. A step is at most a grid spacing,
+// and a vertex whose move would flip one of its faces stays where it was, so the extraction's
+// validity (no flipped face, hence no new intersection from a sub-voxel move) is kept.
+#pragma once
+
+#include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/geometry/point.h>
+#include <vcg_ext/structure/atoms.h>
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/Interpolation.h>
+
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace molremesh {
+
+/// Atoms bucketed in cubic cells of a given size, for "atoms near x" queries (the 27 cells around).
+class AtomCells {
+public:
+  AtomCells(const std::vector<Atom>& atoms, double cell) : atoms_(&atoms), cell_(cell) {
+    for (std::size_t i = 0; i < atoms.size(); ++i) cells_[Key(atoms[i].position)].push_back(std::uint32_t(i));
+  }
+  template <class Visit>
+  void ForNear(const Point& x, Visit&& visit) const {
+    const long cx = long(std::floor(x[0] / cell_)), cy = long(std::floor(x[1] / cell_)),
+               cz = long(std::floor(x[2] / cell_));
+    for (long i = cx - 1; i <= cx + 1; ++i)
+      for (long j = cy - 1; j <= cy + 1; ++j)
+        for (long k = cz - 1; k <= cz + 1; ++k) {
+          const auto it = cells_.find(Pack(i, j, k));
+          if (it == cells_.end()) continue;
+          for (std::uint32_t a : it->second) visit((*atoms_)[a]);
+        }
+  }
+
+private:
+  static std::int64_t Pack(long i, long j, long k) {
+    return (std::int64_t(i & 0x1FFFFF) << 42) | (std::int64_t(j & 0x1FFFFF) << 21) |
+           std::int64_t(k & 0x1FFFFF);
+  }
+  std::int64_t Key(const Point& p) const {
+    return Pack(long(std::floor(p[0] / cell_)), long(std::floor(p[1] / cell_)),
+                long(std::floor(p[2] / cell_)));
+  }
+  const std::vector<Atom>* atoms_;
+  double cell_;
+  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> cells_;
+};
+
+/// Signed distance to the union of balls (radius r + grow), exact outside and on the surface:
+/// min_i |x - c_i| - r_i, valid for points within `reach` of the surface.
+class BallUnionDistance {
+public:
+  BallUnionDistance(const std::vector<Atom>& atoms, double grow, double reach)
+      : grow_(grow), cells_(atoms, MaxRadius(atoms) + grow + reach) {}
+  /// Value at x, and its gradient (the unit direction from the nearest ball's centre).
+  double operator()(const Point& x, Point& gradient) const {
+    double best = 1e300;
+    gradient = Point(0, 0, 0);
+    cells_.ForNear(x, [&](const Atom& a) {
+      const Point d = x - a.position;
+      const double n = d.Norm(), value = n - (a.radius + grow_);
+      if (value < best && n > 0) {
+        best = value;
+        gradient = d / n;
+      }
+    });
+    return best;
+  }
+
+private:
+  static double MaxRadius(const std::vector<Atom>& atoms) {
+    double r = 0;
+    for (const Atom& a : atoms) r = std::max(r, a.radius);
+    return r;
+  }
+  double grow_;
+  AtomCells cells_;
+};
+
+/// TMSmesh's Gaussian density sum_i exp(-d (|x - c_i|^2 / r_i^2 - 1)), terms below `cutoff` of 1
+/// at their centre's reach left out (as on the grid).
+class GaussianDensity {
+public:
+  GaussianDensity(const std::vector<Atom>& atoms, double decay, double reachInRadii)
+      : decay_(decay), reach2_(reachInRadii * reachInRadii), cells_(atoms, MaxRadius(atoms) * reachInRadii) {}
+  double operator()(const Point& x, Point& gradient) const {
+    double sum = 0;
+    gradient = Point(0, 0, 0);
+    cells_.ForNear(x, [&](const Atom& a) {
+      const Point d = x - a.position;
+      const double invR2 = 1.0 / (a.radius * a.radius), s2 = d.SquaredNorm() * invR2;
+      if (s2 > reach2_) return;
+      const double term = std::exp(-decay_ * (s2 - 1.0));
+      sum += term;
+      gradient += d * (-2.0 * decay_ * invR2 * term);
+    });
+    return sum;
+  }
+
+private:
+  static double MaxRadius(const std::vector<Atom>& atoms) {
+    double r = 0;
+    for (const Atom& a : atoms) r = std::max(r, a.radius);
+    return r;
+  }
+  double decay_, reach2_;
+  AtomCells cells_;
+};
+
+/// A grid's values by triquadratic interpolation, the gradient by central differences. Safe to
+/// call from several threads (each call has its own accessor).
+class QuadraticGridField {
+public:
+  explicit QuadraticGridField(const openvdb::FloatGrid& grid)
+      : grid_(&grid), step_(0.25 * grid.voxelSize()[0]) {}
+  double operator()(const Point& x, Point& gradient) const {
+    const openvdb::FloatGrid::ConstAccessor accessor = grid_->getConstAccessor();
+    const openvdb::math::Transform& xform = grid_->transform();
+    auto at = [&](const Point& p) {
+      float value = 0;
+      openvdb::tools::QuadraticSampler::sample(accessor, xform.worldToIndex(openvdb::Vec3d(p[0], p[1], p[2])),
+                                               value);
+      return double(value);
+    };
+    for (int k = 0; k < 3; ++k) {
+      Point e(0, 0, 0);
+      e[k] = step_;
+      gradient[k] = (at(x + e) - at(x - e)) / (2 * step_);
+    }
+    return at(x);
+  }
+
+private:
+  const openvdb::FloatGrid* grid_;
+  double step_;
+};
+
+/// Newton steps from x towards field == level, the total move capped at maxMove.
+template <class Field>
+Point ProjectToLevel(const Point& x, const Field& field, double level, double maxMove, int iterations = 4) {
+  Point y = x, g;
+  for (int it = 0; it < iterations; ++it) {
+    const double residual = field(y, g) - level, g2 = g.SquaredNorm();
+    if (!(g2 > 1e-24) || !std::isfinite(residual)) break;
+    y -= g * (residual / g2);
+    const Point move = y - x;
+    if (move.Norm() > maxMove) y = x + move * (maxMove / move.Norm());
+  }
+  return y;
+}
+
+/// Moves m's vertices onto field == level (ProjectToLevel, each on its own: the result does not
+/// depend on the thread count); a vertex whose move flips one of its
+/// faces' normals (or makes it degenerate) is put back, until no face is flipped.
+template <class MeshType, class Field>
+void ProjectVerticesToLevel(MeshType& m, const Field& field, double level, double maxMove, int threads = 0) {
+  using CoordType = typename MeshType::CoordType;
+  using ScalarType = typename MeshType::ScalarType;
+  std::vector<Point> before(m.vert.size());
+  ParallelFor(m.vert.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      before[i] = PositionOf(&m.vert[i]);
+      if (m.vert[i].IsD()) continue;
+      const Point p = ProjectToLevel(before[i], field, level, maxMove);
+      m.vert[i].P() = CoordType(ScalarType(p[0]), ScalarType(p[1]), ScalarType(p[2]));
+    }
+  });
+  auto normalAt = [&](const typename MeshType::FaceType& f, bool original) {
+    Point p[3];
+    for (int k = 0; k < 3; ++k)
+      p[k] = original ? before[std::size_t(vcg::tri::Index(m, f.cV(k)))] : PositionOf(f.cV(k));
+    return (p[1] - p[0]) ^ (p[2] - p[0]);
+  };
+  for (int round = 0; round < 10; ++round) {
+    bool reverted = false;
+    for (const auto& f : m.face) {
+      if (f.IsD()) continue;
+      const Point n0 = normalAt(f, true), n1 = normalAt(f, false);
+      if (n0 * n1 > 0.25 * n0.SquaredNorm()) continue; // same side, not collapsed
+      for (int k = 0; k < 3; ++k) {
+        auto* v = const_cast<typename MeshType::VertexType*>(f.cV(k));
+        const Point& p = before[std::size_t(vcg::tri::Index(m, v))];
+        v->P() = CoordType(ScalarType(p[0]), ScalarType(p[1]), ScalarType(p[2]));
+      }
+      reverted = true;
+    }
+    if (!reverted) break;
+  }
+}
+
+} // namespace molremesh

@@ -1,0 +1,377 @@
+// Molecular surfaces of a set of atoms as level sets on OpenVDB's sparse grid, extracted as a
+// closed, outward-oriented vcg triangle mesh.
+//
+//   van der Waals  boundary of the union of the atom balls (radius r)
+//   SAS            the same with r + probe (where the probe's centre can go)
+//   SES            the SAS region eroded by the probe: the points deeper than the probe radius
+//                  inside it (Connolly/Richards: the region no probe ball outside the atoms reaches)
+//   Gaussian       phi(x) = sum_i exp(-d (|x - c_i|^2 / r_i^2 - 1)) at phi = level (TMSmesh's
+//                  surface, a smooth approximation of the van der Waals union)
+//
+// Algorithm (SES): 1. rasterize the balls r + probe as a narrow-band signed distance field (the
+// union is the minimum of the sphere distances, exact outside and near the surface); 2. rebuild the
+// field from its zero isosurface (points projected onto the exact spheres) with an inner band wider
+// than the probe, so values inside are true distances to the SAS boundary (the minimum of sphere
+// distances underestimates the depth where balls overlap); 3. extract the isosurface at -probe and
+// project its vertices onto that level of the triquadratically interpolated field. VdW and SAS
+// extract step 1's field at 0; the Gaussian sums the atoms' terms over the voxels where each is
+// above 1e-3 of the level; both project the vertices onto their exact field (atom_fields.h).
+// Every closed component of the extraction is kept: an inner one bounds a cavity (its normals
+// point into the cavity); keepCavities = false keeps only the components enclosing positive volume.
+//
+// The extraction is OpenVDB's mesher (vcg_ext/volume/level_set_grid.h): closed and free of
+// self-intersections by construction, with the isosurface's sliver triangles; the remeshing
+// pipeline fixes the angles afterwards. Determinism: the union is a minimum and the Gaussian sum
+// runs in atom order, so the output does not depend on the thread count.
+#pragma once
+
+#include <vcg_ext/core/union_find.h>
+#include <vcg_ext/geometry/point.h>
+#include <vcg_ext/pipeline/memory_budget.h>
+#include <vcg_ext/structure/atoms.h>
+#include <vcg_ext/volume/atom_fields.h>
+#include <vcg_ext/volume/level_set_grid.h>
+
+#include <openvdb/tools/MeshToVolume.h>
+#include <openvdb/tools/ValueTransformer.h>
+#include <openvdb/tools/ParticlesToLevelSet.h>
+#include <openvdb/tools/SignedFloodFill.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace molremesh {
+
+enum class MolecularSurfaceKind { Ses, Sas, VanDerWaals, Gaussian };
+
+inline const char* ToString(MolecularSurfaceKind kind) {
+  switch (kind) {
+  case MolecularSurfaceKind::Ses:
+    return "ses";
+  case MolecularSurfaceKind::Sas:
+    return "sas";
+  case MolecularSurfaceKind::VanDerWaals:
+    return "vdw";
+  case MolecularSurfaceKind::Gaussian:
+    return "gaussian";
+  }
+  return "?";
+}
+
+struct MolecularSurfaceResult {
+  bool ok = false;
+  bool refusedForMemory = false; ///< the estimate was above the limit; nothing was built
+  std::string message;           ///< why not, when !ok
+  std::size_t atoms = 0;         ///< atoms with a positive radius that were used
+  std::size_t faces = 0, vertices = 0;
+  std::size_t components = 0;      ///< closed components of the output
+  std::size_t cavities = 0;        ///< components enclosing negative volume (kept or removed)
+  std::size_t removedCavities = 0; ///< removed by keepCavities = false
+  double area = 0, volume = 0;     ///< of the output mesh, Å² and Å³ (cavities count negative)
+  double estimatedMB = 0;          ///< the memory estimate checked before the run
+  double seconds = 0;
+};
+
+namespace surface_detail {
+
+/// The atoms as OpenVDB's particle list, each radius grown by `grow` (the probe for SAS/SES).
+struct AtomParticles {
+  using PosType = openvdb::Vec3R;
+  const std::vector<Atom>* atoms;
+  double grow;
+  std::size_t size() const { return atoms->size(); }
+  void getPos(std::size_t n, openvdb::Vec3R& xyz) const {
+    const Point& p = (*atoms)[n].position;
+    xyz = openvdb::Vec3R(p[0], p[1], p[2]);
+  }
+  void getPosRad(std::size_t n, openvdb::Vec3R& xyz, openvdb::Real& radius) const {
+    getPos(n, xyz);
+    radius = (*atoms)[n].radius + grow;
+  }
+};
+
+/// Area and volume of a union of balls, over-estimated from its occupancy on a coarse grid: the
+/// boundary faces of a staircase over-count a smooth surface's area by about 1.5.
+struct CoarseUnion {
+  double area = 0, volume = 0;
+};
+inline CoarseUnion CoarseUnionOfBalls(const std::vector<Atom>& atoms, double grow) {
+  Point lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+  double rmax = 0;
+  for (const Atom& a : atoms)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], a.position[k]);
+      hi[k] = std::max(hi[k], a.position[k]);
+      rmax = std::max(rmax, a.radius + grow);
+    }
+  double cell = 1.0;
+  auto cellsAlong = [&](int k) { return std::size_t((hi[k] - lo[k] + 2 * rmax) / cell) + 3; };
+  while (double(cellsAlong(0)) * double(cellsAlong(1)) * double(cellsAlong(2)) > 5e7) cell *= 2;
+  const std::size_t nx = cellsAlong(0), ny = cellsAlong(1), nz = cellsAlong(2);
+  std::vector<unsigned char> inside(nx * ny * nz, 0);
+  const Point origin = lo - Point(rmax + cell, rmax + cell, rmax + cell);
+  for (const Atom& a : atoms) {
+    const double r = a.radius + grow;
+    int from[3], to[3];
+    for (int k = 0; k < 3; ++k) {
+      from[k] = int(std::floor((a.position[k] - r - origin[k]) / cell));
+      to[k] = int(std::ceil((a.position[k] + r - origin[k]) / cell));
+    }
+    for (int i = from[0]; i <= to[0]; ++i)
+      for (int j = from[1]; j <= to[1]; ++j)
+        for (int l = from[2]; l <= to[2]; ++l) {
+          const Point c = origin + Point(i + 0.5, j + 0.5, l + 0.5) * cell;
+          if ((c - a.position).SquaredNorm() <= r * r) inside[(std::size_t(i) * ny + j) * nz + l] = 1;
+        }
+  }
+  std::size_t boundaryFaces = 0, insideCells = 0;
+  for (std::size_t i = 1; i + 1 < nx; ++i)
+    for (std::size_t j = 1; j + 1 < ny; ++j)
+      for (std::size_t l = 1; l + 1 < nz; ++l) {
+        const std::size_t c = (i * ny + j) * nz + l;
+        if (!inside[c]) continue;
+        ++insideCells;
+        boundaryFaces += !inside[c - ny * nz] + !inside[c + ny * nz] + !inside[c - nz] + !inside[c + nz] +
+                         !inside[c - 1] + !inside[c + 1];
+      }
+  return {double(boundaryFaces) * cell * cell, double(insideCells) * cell * cell * cell};
+}
+
+/// Signed volume enclosed by each connected component of m (by shared vertices), and the
+/// component of each face.
+template <class MeshType>
+std::vector<double> ComponentVolumes(const MeshType& m, std::vector<std::uint32_t>& faceComponent) {
+  UnionFind sets(m.vert.size());
+  for (const auto& f : m.face)
+    if (!f.IsD()) {
+      sets.Unite(std::uint32_t(vcg::tri::Index(m, f.cV(0))), std::uint32_t(vcg::tri::Index(m, f.cV(1))));
+      sets.Unite(std::uint32_t(vcg::tri::Index(m, f.cV(0))), std::uint32_t(vcg::tri::Index(m, f.cV(2))));
+    }
+  std::vector<std::uint32_t> label(m.vert.size(), std::uint32_t(-1));
+  std::vector<double> volumes;
+  faceComponent.assign(m.face.size(), std::uint32_t(-1));
+  for (std::size_t i = 0; i < m.face.size(); ++i) {
+    const auto& f = m.face[i];
+    if (f.IsD()) continue;
+    const std::uint32_t root = sets.Find(std::uint32_t(vcg::tri::Index(m, f.cV(0))));
+    if (label[root] == std::uint32_t(-1)) {
+      label[root] = std::uint32_t(volumes.size());
+      volumes.push_back(0);
+    }
+    faceComponent[i] = label[root];
+    const Point a = PositionOf(f.cV(0)), b = PositionOf(f.cV(1)), c = PositionOf(f.cV(2));
+    volumes[label[root]] += (a * (b ^ c)) / 6.0;
+  }
+  return volumes;
+}
+
+/// Gaussian density -phi on the grid (negative inside, background 0 outside), atoms in order.
+inline openvdb::FloatGrid::Ptr NegatedGaussianDensity(const std::vector<Atom>& atoms, double voxel,
+                                                      double decay, double level) {
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+  grid->setTransform(VoxelTransform(voxel));
+  grid->setGridClass(openvdb::GRID_LEVEL_SET); // for the mesher: inside is below the isovalue
+  auto accessor = grid->getAccessor();
+  const double cutoff2 = 1.0 + std::log(1e3 / level) / decay; // term below 1e-3 level beyond it
+  for (const Atom& a : atoms) {
+    const double reach = a.radius * std::sqrt(cutoff2), invR2 = 1.0 / (a.radius * a.radius);
+    openvdb::Coord from, to;
+    for (int k = 0; k < 3; ++k) {
+      from[k] = int(std::floor((a.position[k] - reach) / voxel));
+      to[k] = int(std::ceil((a.position[k] + reach) / voxel));
+    }
+    openvdb::Coord ijk;
+    for (ijk[0] = from[0]; ijk[0] <= to[0]; ++ijk[0])
+      for (ijk[1] = from[1]; ijk[1] <= to[1]; ++ijk[1])
+        for (ijk[2] = from[2]; ijk[2] <= to[2]; ++ijk[2]) {
+          const Point x(ijk[0] * voxel, ijk[1] * voxel, ijk[2] * voxel);
+          const double s2 = (x - a.position).SquaredNorm() * invR2;
+          if (s2 > cutoff2) continue;
+          accessor.setValue(ijk, accessor.getValue(ijk) - float(std::exp(-decay * (s2 - 1.0))));
+        }
+  }
+  return grid;
+}
+
+/// The signed distance to the SAS with true values inside (down to inBand voxels): the zero
+/// isosurface of the rasterized union, its points projected onto the exact spheres, its unsigned
+/// distance field (both sides, inBand voxels), signed by the rasterized union (whose membership is
+/// exact). OpenVDB's levelSetRebuild signs by flood fill from outside instead and drops the band
+/// around inner surfaces, which would fill every cavity.
+inline openvdb::FloatGrid::Ptr RebuiltDistance(const openvdb::FloatGrid& sas, const BallUnionDistance& balls,
+                                               double h, float inBand, int threads) {
+  VdbPolygons polygons;
+  openvdb::tools::volumeToMesh(sas, polygons.points, polygons.triangles, polygons.quads, 0.0, 0.0);
+  ParallelFor(polygons.points.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      openvdb::Vec3s& q = polygons.points[i];
+      const Point y = ProjectToLevel(Point(q[0], q[1], q[2]), balls, 0.0, h);
+      q = openvdb::Vec3s(float(y[0]), float(y[1]), float(y[2]));
+    }
+  });
+  openvdb::FloatGrid::Ptr distance = UnsignedDistanceGrid(polygons, h, inBand);
+  polygons = VdbPolygons();
+  openvdb::tools::foreach (distance->beginValueOn(), [&sas](const openvdb::FloatGrid::ValueOnIter& it) {
+    if (sas.tree().getValue(it.getCoord()) < 0) it.setValue(-std::fabs(*it));
+  });
+  distance->setGridClass(openvdb::GRID_LEVEL_SET);
+  openvdb::tools::signedFloodFill(distance->tree());
+  return distance;
+}
+
+} // namespace surface_detail
+
+/// Builds a molecular surface of a set of atoms (see the top of this file).
+template <class MeshType>
+class MolecularSurface {
+public:
+  struct Params {
+    MolecularSurfaceKind kind = MolecularSurfaceKind::Ses;
+    double probeRadius = 1.4;    ///< Å, a water molecule (SES, SAS)
+    double gridSpacing = 0.4;    ///< Å, voxel edge: area within 0.5 % of a sphere's, see the README
+    double gaussianDecay = 0.9;  ///< d of the Gaussian surface (TMSmesh's default)
+    double gaussianLevel = 1.0;  ///< isolevel of the Gaussian surface (TMSmesh's default)
+    bool keepCavities = true;    ///< false: only the components enclosing positive volume
+    float halfWidthVoxels = 3.0; ///< narrow band on each side of the surface, voxels
+    double memoryLimitMB = 0;    ///< 0: the memory available at the start; < 0: no check
+    int threads = 0; ///< vertex projection threads, 0 = all cores (OpenVDB uses TBB's); output independent
+  };
+
+  /// Replaces m's content by the surface of the atoms. Preconditions (checked, a failed result
+  /// leaves m empty): at least one atom with a positive finite radius, finite positions,
+  /// gridSpacing > 0, probeRadius >= 0, decay and level > 0.
+  static MolecularSurfaceResult Build(const std::vector<Atom>& atomsIn, MeshType& m, const Params& p) {
+    const auto start = std::chrono::steady_clock::now();
+    MolecularSurfaceResult r;
+    m.Clear();
+    std::vector<Atom> atoms;
+    for (const Atom& a : atomsIn) {
+      if (!IsFinite(a.position) || !std::isfinite(a.radius))
+        return Fail(r, "an atom has a non-finite position or radius");
+      if (a.radius > 0 || (p.kind == MolecularSurfaceKind::Sas || p.kind == MolecularSurfaceKind::Ses))
+        atoms.push_back(a);
+    }
+    if (!(p.gridSpacing > 0) || !(p.probeRadius >= 0) || !(p.gaussianDecay > 0) || !(p.gaussianLevel > 0))
+      return Fail(r, "grid spacing, decay and level must be > 0 and the probe radius >= 0");
+    if (atoms.empty()) return Fail(r, "no atom with a positive radius");
+    r.atoms = atoms.size();
+    if (!CheckMemory(atoms, p, r)) return r;
+
+    InitializeOpenVdb();
+    Extract(atoms, p, m);
+    if (m.fn == 0) return Fail(r, "the surface is empty (atoms smaller than the grid spacing?)");
+    Finish(m, p, r);
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.ok = true;
+    return r;
+  }
+
+private:
+  static MolecularSurfaceResult& Fail(MolecularSurfaceResult& r, const std::string& why) {
+    r.ok = false;
+    r.message = why;
+    return r;
+  }
+
+  /// Distance from an atom's centre, in radii, where its Gaussian term falls below 1e-3 of the level.
+  static double GaussianReach(const Params& p) {
+    return std::sqrt(1.0 + std::log(1e3 / p.gaussianLevel) / p.gaussianDecay);
+  }
+
+  /// Probe inner band of the SES rebuild, in voxels: the probe plus room for interpolation.
+  static float InnerBandVoxels(const Params& p) { return float(p.probeRadius / p.gridSpacing) + 2.0f; }
+
+  static bool CheckMemory(const std::vector<Atom>& atoms, const Params& p, MolecularSurfaceResult& r) {
+    const bool grown = p.kind == MolecularSurfaceKind::Sas || p.kind == MolecularSurfaceKind::Ses;
+    const double h = p.gridSpacing;
+    const surface_detail::CoarseUnion sas =
+        surface_detail::CoarseUnionOfBalls(atoms, grown ? p.probeRadius : 0.0);
+    double gridBytes = SparseGridBytes(sas.area / (h * h) * (2.0 * p.halfWidthVoxels + 1));
+    if (p.kind == MolecularSurfaceKind::Ses) // the rasterized and the rebuilt grid are alive together
+      gridBytes += SparseGridBytes(sas.area / (h * h) * (2.0 * InnerBandVoxels(p) + 1));
+    if (p.kind == MolecularSurfaceKind::Gaussian) { // dense leaves over every atom's reach
+      double reach = 0;
+      for (const Atom& a : atoms) reach = std::max(reach, a.radius * (GaussianReach(p) - 1));
+      gridBytes =
+          SparseGridBytes(0) + surface_detail::CoarseUnionOfBalls(atoms, reach).volume / (h * h * h) * 4.5;
+    }
+    const double faces = 2.0 * sas.area / (h * h); // the mesher's triangles (quads split in two)
+    const double bytes = MemoryBudget::kBaseBytes + gridBytes + faces * 400.0;
+    r.estimatedMB = bytes / (1024.0 * 1024.0);
+    if (p.memoryLimitMB < 0) return true;
+    const double limit =
+        p.memoryLimitMB > 0 ? p.memoryLimitMB * 1024.0 * 1024.0 : MemoryBudget::AvailableBytes();
+    if (!(limit > 0) || bytes <= limit) return true;
+    std::ostringstream s;
+    s.setf(std::ios::fixed);
+    s.precision(0);
+    s << "the surface would need about " << r.estimatedMB << " MB of memory at grid spacing " << p.gridSpacing
+      << " Å (about " << faces << " faces), more than the " << limit / (1024.0 * 1024.0) << " MB "
+      << (p.memoryLimitMB > 0 ? "memory limit" : "of memory available")
+      << "; a larger grid spacing needs less (memory falls with its square)";
+    r.refusedForMemory = true;
+    Fail(r, s.str());
+    return false;
+  }
+
+  /// The level set of the kind, extracted into m, its vertices projected onto the exact surface.
+  static void Extract(const std::vector<Atom>& atoms, const Params& p, MeshType& m) {
+    using openvdb::FloatGrid;
+    const double h = p.gridSpacing;
+    if (p.kind == MolecularSurfaceKind::Gaussian) {
+      FloatGrid::Ptr density =
+          surface_detail::NegatedGaussianDensity(atoms, h, p.gaussianDecay, p.gaussianLevel);
+      LevelSetToMesh(*density, m, -p.gaussianLevel);
+      ProjectVerticesToLevel(m, GaussianDensity(atoms, p.gaussianDecay, GaussianReach(p)), p.gaussianLevel,
+                             h);
+      return;
+    }
+    const double grow = p.kind == MolecularSurfaceKind::VanDerWaals ? 0.0 : p.probeRadius;
+    FloatGrid::Ptr grid = openvdb::createLevelSet<FloatGrid>(h, p.halfWidthVoxels);
+    openvdb::tools::ParticlesToLevelSet<FloatGrid> raster(*grid);
+    raster.setRmin(0.0); // hydrogens can be thinner than 1.5 voxels: rasterized all the same
+    raster.rasterizeSpheres(surface_detail::AtomParticles{&atoms, grow});
+    raster.finalize(true);
+    openvdb::tools::signedFloodFill(grid->tree());
+    const BallUnionDistance balls(atoms, grow, 2 * h);
+    if (p.kind != MolecularSurfaceKind::Ses) {
+      LevelSetToMesh(*grid, m, 0.0);
+      ProjectVerticesToLevel(m, balls, 0.0, h, p.threads);
+      return;
+    }
+    FloatGrid::Ptr exact = surface_detail::RebuiltDistance(*grid, balls, h, InnerBandVoxels(p), p.threads);
+    grid.reset();
+    LevelSetToMesh(*exact, m, -p.probeRadius);
+    ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, h, p.threads);
+  }
+
+  /// Components, cavities (removed unless kept), area and volume.
+  static void Finish(MeshType& m, const Params& p, MolecularSurfaceResult& r) {
+    std::vector<std::uint32_t> faceComponent;
+    const std::vector<double> volumes = surface_detail::ComponentVolumes(m, faceComponent);
+    r.components = volumes.size();
+    for (double v : volumes) r.cavities += v < 0;
+    if (!p.keepCavities && r.cavities > 0) {
+      for (std::size_t i = 0; i < m.face.size(); ++i)
+        if (!m.face[i].IsD() && volumes[faceComponent[i]] < 0)
+          vcg::tri::Allocator<MeshType>::DeleteFace(m, m.face[i]);
+      vcg::tri::Clean<MeshType>::RemoveUnreferencedVertex(m);
+      vcg::tri::Allocator<MeshType>::CompactEveryVector(m);
+      r.removedCavities = r.cavities;
+      r.components -= r.cavities;
+    }
+    r.faces = std::size_t(m.fn);
+    r.vertices = std::size_t(m.vn);
+    for (const auto& f : m.face) {
+      const Point a = PositionOf(f.cV(0)), b = PositionOf(f.cV(1)), c = PositionOf(f.cV(2));
+      r.area += ((b - a) ^ (c - a)).Norm() / 2.0;
+      r.volume += (a * (b ^ c)) / 6.0;
+    }
+  }
+};
+
+} // namespace molremesh
