@@ -80,7 +80,7 @@ TEST(Cli, NanCoordinates) {
 
 TEST(Cli, UsageErrorExitsWithStatus1AndOneLine) {
   ExpectUsageError(Cli("report"), "input is required");
-  ExpectUsageError(Cli(""), "a command is required (use report, color, remesh)");
+  ExpectUsageError(Cli(""), "a command is required (use report, color, remesh, surface)");
 }
 
 TEST(Cli, NonManifoldFanIsReportedNotRefused) {
@@ -379,7 +379,7 @@ TEST(Cli, HeaderDeclaringMoreThanTheFileHoldsIsRefused) {
 
 TEST(CliArguments, UnknownCommandIsNamed) {
   ExpectUsageError(Cli("foo " + Quote(BundledMesh("lysozyme_Lys1_msms.ply"))),
-                   "unknown command 'foo' (use report, color, remesh)");
+                   "unknown command 'foo' (use report, color, remesh, surface)");
 }
 
 // Each value outside its range is refused up front with the option's name and a readable range:
