@@ -3,7 +3,9 @@
 //
 // RemeshPipeline<MeshType>::Do(m, params) runs params.stages (any subset, always in pipeline
 // order) and measures the mesh before and after each stage (MeshQuality). It is transactional:
-// if a stage fails, the mesh is restored to the input and the failing stage says why.
+// if a stage fails, the mesh is restored to the input and the failing stage says why. A mesh far
+// from the origin compared with its size is remeshed in a recentred frame and moved back on output
+// (CoordinateFrame); one whose coordinates cannot resolve its edges is refused.
 #pragma once
 
 #include <vcg/complex/append.h>
@@ -25,6 +27,7 @@
 #include <vector>
 
 #include <vcg_ext/clean/clean_raw_mesh.h>
+#include <vcg_ext/pipeline/coordinate_frame.h>
 #include <vcg_ext/stages/cvt_initialization.h>
 #include <vcg_ext/core/input_check.h>
 #include <vcg_ext/stages/local_smoothing.h>
@@ -275,6 +278,7 @@ public:
       run.stageReports.push_back(report);
     }
     run.ResolveReports();
+    run.LeaveFrame();
     UpdateAdjacency(m);
     if (params.measureEachStage && !run.result.stages.empty()) run.result.verdict = Verdict(run);
     run.result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -374,6 +378,8 @@ private:
     std::unique_ptr<ReferenceSurface<MeshType>> reference;
     OutputTargets targets; // the causes are filled in by the clean stage
     MeshType backup;
+    CoordinateFrame<MeshType> frame; // the stages run in it; m leaves it on output
+    bool inFrame = false;            // whether m is in the recentred frame now
 
     RunState(MeshType& mesh, const Params& p, const std::function<void(const std::string&)>& logger)
         : m(mesh), params(p), log(logger) {}
@@ -389,6 +395,13 @@ private:
       if (!check.ok) {
         result.ok = false;
         result.message = check.message;
+        return false;
+      }
+      frame = CoordinateFrame<MeshType>::For(m);
+      if (std::string why = frame.CoarseResolution(m); !why.empty()) {
+        result.ok = false;
+        result.message = "refused: " + why + " (the mesh is unchanged)";
+        Say(result.message);
         return false;
       }
       if (std::string why = MemoryCheck(m, params); !why.empty()) {
@@ -407,7 +420,21 @@ private:
       // on all threads.
       inputReport = MeasureLater(m, qualityParams);
       if (params.restoreOnFailure) vcg::tri::Append<MeshType, MeshType>::MeshCopy(backup, m);
+      frame.Enter(m);
+      inFrame = frame.Recentres();
       return true;
+    }
+
+    /// Moves m back to the input's frame. The last report is measured again when that moved
+    /// anything: rounding to the input's coordinates may change its figures.
+    void LeaveFrame() {
+      if (!inFrame) return;
+      frame.Leave(m);
+      inFrame = false;
+      if (!params.measureEachStage || result.stages.empty()) return;
+      typename MeshQuality<MeshType>::Params last = qualityParams;
+      last.computeSelfIntersections = true;
+      result.stages.back().after = MeshQuality<MeshType>::Compute(m, last);
     }
 
     void ResolveReports() {
@@ -428,7 +455,11 @@ private:
       if (params.restoreOnFailure) {
         result.message += " (the mesh is unchanged)";
         vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, backup);
+        inFrame = false;
         UpdateAdjacency(m);
+      } else if (inFrame) {
+        frame.Leave(m);
+        inFrame = false;
       }
       Say(result.message);
       return result;
