@@ -10,7 +10,8 @@
 //    approximationTolerance x L0. kappa is estimated on the mesh itself: the normal curvature
 //    along each edge, 2 n.(p_i - p_j) / |p_i - p_j|^2 (exact on a sphere for any edge length),
 //    fitted by a 2x2 curvature tensor per vertex (least squares), whose eigenvalues are the
-//    principal curvatures;
+//    principal curvatures; with Params::meanEdgeAtTarget (the pipeline's setting) the field is
+//    then scaled so that the mesh it describes has mean edge length L0 (ScaleSizingToMeanEdge);
 //  - per iteration: split the edges longer than splitFactor x L(edge), collapse those shorter
 //    than collapseFactor x L(edge) unless an edge of the result would be longer than
 //    splitFactor x L, flip edges toward valence 6 (4 on the boundary), then tangential
@@ -190,6 +191,7 @@ public:
     double minLengthFactor = 0.6;         ///< L(x) >= this x L0
     double maxLengthFactor = 1.0;         ///< L(x) <= this x L0
     int sizingSmoothingPasses = 2;        ///< averaging passes of L over each vertex and its one-ring
+    bool meanEdgeAtTarget = false;        ///< scale L(x) to a mean edge length of L0 (ScaleSizingToMeanEdge)
     double splitFactor = 4.0 / 3.0;       ///< split edges longer than this x L(edge)
     double collapseFactor = 4.0 / 5.0;    ///< collapse edges shorter than this x L(edge)
     int maxSplitPasses = 4;               ///< split passes per iteration (new edges may still be long)
@@ -242,6 +244,11 @@ public:
   /// L0) from the curvature of m, as described in the file comment. Needs up-to-date VF
   /// adjacency. Thread-safe reads only; deterministic.
   static std::vector<double> ComputeSizing(const MeshType& m, double L0, const Params& params, int threads);
+
+  /// Scales sizing (per vertex of m) so that the mean edge length of a mesh following it is L0:
+  /// a region of area A meshed at length L has about A / L^2 edges of length L, so the mean is
+  /// sum(A_i / L_i) / sum(A_i / L_i^2) over the vertices, A_i a third of their faces' area.
+  static void ScaleSizingToMeanEdge(const MeshType& m, double L0, std::vector<double>& sizing);
 
   /// Largest absolute principal curvature at v, estimated from its one-ring (see the file comment).
   static double MaxAbsCurvature(const VertexType& v);
@@ -479,7 +486,29 @@ std::vector<double> AdaptiveRemeshing<MeshType>::ComputeSizing(const MeshType& m
     });
     sizing.swap(next);
   }
+  if (params.meanEdgeAtTarget) ScaleSizingToMeanEdge(m, L0, sizing);
   return sizing;
+}
+
+template <class MeshType>
+void AdaptiveRemeshing<MeshType>::ScaleSizingToMeanEdge(const MeshType& m, double L0,
+                                                        std::vector<double>& sizing) {
+  std::vector<double> area(m.vert.size(), 0.0);
+  for (const FaceType& f : m.face) {
+    if (f.IsD()) continue;
+    const Point a = PositionOf(f.cV(0)), b = PositionOf(f.cV(1)), c = PositionOf(f.cV(2));
+    const double third = ((b - a) ^ (c - a)).Norm() / 6.0;
+    for (int k = 0; k < 3; ++k) area[vcg::tri::Index(m, f.cV(k))] += third;
+  }
+  double lengths = 0, edges = 0;
+  for (std::size_t i = 0; i < sizing.size(); ++i)
+    if (area[i] > 0 && sizing[i] > 0) {
+      lengths += area[i] / sizing[i];
+      edges += area[i] / (sizing[i] * sizing[i]);
+    }
+  const double scale = edges > 0 ? L0 * edges / lengths : 1.0;
+  if (!(scale > 0) || !std::isfinite(scale)) return;
+  for (double& L : sizing) L *= scale;
 }
 
 // --- The remeshing session -------------------------------------------------------------------------
