@@ -12,7 +12,7 @@ packages=(
   build-essential cmake ninja-build pkg-config dpkg-dev ca-certificates
   meshlab
   qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev libglew-dev
-  libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev
+  libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev libopenvdb-dev
   libgtest-dev libbenchmark-dev
   xvfb xauth
   tetgen

@@ -1,0 +1,19 @@
+# OpenVDB (Debian's libopenvdb-dev) behind one INTERFACE target, molremesh_openvdb, for the code
+# that includes vcg_ext/volume/ headers. The rest of vcg_ext never sees OpenVDB.
+#
+# Debian installs OpenVDB's FindOpenVDB.cmake (it searches Blosc, OpenEXR, log4cplus ... for
+# options we do not use), so a plain search for the header and the shared library is enough: the
+# library links its own dependencies; we add TBB and Imath, whose headers OpenVDB's headers include.
+find_path(OPENVDB_INCLUDE_DIR openvdb/openvdb.h)
+find_library(OPENVDB_LIBRARY NAMES openvdb)
+find_package(TBB REQUIRED)
+find_package(Imath QUIET)
+if(NOT OPENVDB_INCLUDE_DIR OR NOT OPENVDB_LIBRARY)
+  message(FATAL_ERROR "OpenVDB not found: install Debian's 'libopenvdb-dev' (scripts/install_deps.sh)")
+endif()
+add_library(molremesh_openvdb INTERFACE)
+target_include_directories(molremesh_openvdb SYSTEM INTERFACE ${OPENVDB_INCLUDE_DIR})
+target_link_libraries(molremesh_openvdb INTERFACE vcg_ext ${OPENVDB_LIBRARY} TBB::tbb)
+if(TARGET Imath::Imath)
+  target_link_libraries(molremesh_openvdb INTERFACE Imath::Imath)
+endif()
