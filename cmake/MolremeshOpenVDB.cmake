@@ -17,3 +17,6 @@ target_link_libraries(molremesh_openvdb INTERFACE vcg_ext ${OPENVDB_LIBRARY} TBB
 if(TARGET Imath::Imath)
   target_link_libraries(molremesh_openvdb INTERFACE Imath::Imath)
 endif()
+# What links the volume layer may call it: the clean stage's volumetric fallback is compiled in only
+# there (vcg_ext/clean/volumetric_fallback.h).
+target_compile_definitions(molremesh_openvdb INTERFACE MOLREMESH_HAVE_OPENVDB=1)

@@ -525,6 +525,125 @@ TEST(CleanRawMesh, TinyExtraComponentIsRemovedAndCounted) {
   }
 }
 
+/// Two icospheres as one soup: a 5120-face one of radius 1 around the origin and a 20-face one
+/// (0.4% of the faces: the old 1% default removed it) of `innerRadius` at `center`, the second one's
+/// faces reversed when `invertInner` (a cavity as PyMOL writes it: normals into the void).
+/// `innerVolume` is the small one's enclosed volume.
+Soup TwoSpheres(const Point& center, double innerRadius, bool invertInner, double& innerVolume) {
+  MeshD a, b;
+  molremesh::test::Icosphere(a, 4);
+  molremesh::test::Icosphere(b, 0, center, Point(innerRadius, innerRadius, innerRadius));
+  innerVolume = Quality::Compute(b).volume;
+  Soup s = ToSoup(a);
+  const Soup t = ToSoup(b);
+  const int offset = int(s.points.size());
+  s.points.insert(s.points.end(), t.points.begin(), t.points.end());
+  for (const auto& f : t.faces)
+    s.faces.push_back(invertInner ? std::array<int, 3>{f[0] + offset, f[2] + offset, f[1] + offset}
+                                  : std::array<int, 3>{f[0] + offset, f[1] + offset, f[2] + offset});
+  return s;
+}
+
+TEST(CleanRawMesh, CavityIsKeptByDefaultWithItsNormalsIntoTheVoid) {
+  for (const bool invert : {true, false}) {
+    MeshD m;
+    double cavityVolume = 0;
+    const Soup s = TwoSpheres(Point(0.1, 0, 0), 0.3, invert, cavityVolume);
+    MakeMesh(m, s.points, s.faces);
+    const auto r = Clean::Do(m);
+    ExpectValidResult(m, r);
+    EXPECT_EQ(r.removedSmallComponents, 0u);
+    EXPECT_EQ(std::size_t(m.fn), s.faces.size());
+    ASSERT_EQ(r.keptComponents.size(), 2u);
+    EXPECT_GT(r.keptComponents[0].volume, 0);                     // the outer shell, outward
+    EXPECT_NEAR(r.keptComponents[1].volume, -cavityVolume, 1e-9); // the cavity, normals into the void
+    EXPECT_EQ(r.keptComponents[1].faces, 20u);
+    EXPECT_TRUE(r.keptComponents[0].closed && r.keptComponents[1].closed);
+    // The enclosed volume is the shell's minus the cavity's.
+    EXPECT_NEAR(r.reportAfter.volume, r.keptComponents[0].volume - cavityVolume, 1e-9);
+    EXPECT_EQ(r.flippedComponents, invert ? 0u : 1u);
+    EXPECT_NE(CleanRawMeshSummary(r).find("kept components: 2 ("), std::string::npos);
+  }
+}
+
+TEST(CleanRawMesh, SeparatePartsAreKeptByDefaultAndAnExplicitVolumeThresholdDropsTheSmallOne) {
+  double smallVolume = 0;
+  const Soup s = TwoSpheres(Point(3, 0, 0), 0.2, false, smallVolume); // a separate small part, outward
+  ASSERT_GT(smallVolume, 0);
+  {
+    MeshD m;
+    MakeMesh(m, s.points, s.faces);
+    const auto r = Clean::Do(m);
+    ExpectValidResult(m, r);
+    EXPECT_EQ(r.removedSmallComponents, 0u);
+    ASSERT_EQ(r.keptComponents.size(), 2u);
+    EXPECT_GT(r.keptComponents[0].volume, 0);
+    EXPECT_NEAR(r.keptComponents[1].volume, smallVolume, 1e-9); // not nested: outward too
+  }
+  for (const double threshold : {0.5 * smallVolume, 2.0 * smallVolume}) {
+    MeshD m;
+    MakeMesh(m, s.points, s.faces);
+    Clean::Params params;
+    params.minComponentVolume = threshold;
+    const auto r = Clean::Do(m, params);
+    ExpectValidResult(m, r);
+    if (threshold < smallVolume) {
+      EXPECT_EQ(r.removedSmallComponents, 0u);
+      EXPECT_EQ(r.keptComponents.size(), 2u);
+    } else {
+      EXPECT_EQ(r.removedSmallComponents, 1u);
+      EXPECT_EQ(r.removedComponentFaces, 20u);
+      ASSERT_EQ(r.removedComponents.size(), 1u);
+      EXPECT_NEAR(std::fabs(r.removedComponents[0].volume), smallVolume, 1e-9);
+      EXPECT_STREQ(r.removedComponents[0].reason, "below minComponentVolume");
+      EXPECT_EQ(r.keptComponents.size(), 1u);
+      EXPECT_NE(CleanRawMeshSummary(r).find("below minComponentVolume"), std::string::npos);
+    }
+  }
+  { // by face count
+    MeshD m;
+    MakeMesh(m, s.points, s.faces);
+    Clean::Params params;
+    params.minComponentFaces = 21;
+    const auto r = Clean::Do(m, params);
+    ExpectValidResult(m, r);
+    EXPECT_EQ(r.removedSmallComponents, 1u);
+    EXPECT_EQ(r.keptComponents.size(), 1u);
+  }
+}
+
+TEST(CleanRawMesh, PiecesEnclosingNoVolumeAreDroppedByDefault) {
+  MeshD sphere;
+  MakeSphere(sphere, 3);
+  Soup s = ToSoup(sphere);
+  const std::size_t faces = s.faces.size();
+  const int offset = int(s.points.size());
+  // Two flat triangles sharing an edge, away from the sphere.
+  for (const Point& p : {Point(5, 5, 5), Point(5.1, 5, 5), Point(5, 5.1, 5), Point(5.1, 5.1, 5)})
+    s.points.push_back(p);
+  s.faces.push_back({offset, offset + 1, offset + 2});
+  s.faces.push_back({offset + 1, offset + 3, offset + 2});
+  for (const double flat : {0.01, -1.0}) {
+    MeshD m;
+    MakeMesh(m, s.points, s.faces);
+    Clean::Params params;
+    params.flatComponentVolume = flat;
+    params.maxHoleEdges = 0; // leave the flat piece's boundary alone when it is kept
+    const auto r = Clean::Do(m, params);
+    ASSERT_TRUE(r.ok) << r.message;
+    if (flat >= 0) {
+      ExpectValidResult(m, r);
+      EXPECT_EQ(r.removedSmallComponents, 1u);
+      ASSERT_EQ(r.removedComponents.size(), 1u);
+      EXPECT_STREQ(r.removedComponents[0].reason, "encloses no volume");
+      EXPECT_EQ(std::size_t(m.fn), faces);
+    } else {
+      EXPECT_EQ(r.removedSmallComponents, 0u);
+      EXPECT_EQ(std::size_t(m.fn), faces + 2);
+    }
+  }
+}
+
 // A twisted 9-edge hole of an EDTSurf marching-cubes surface (1TII, -t 1 -s 4 -f 1; the fixture is
 // the 120 faces within 4 A of it): its only triangulation under the fold bound crosses a face of
 // the mesh, so it stayed open and TetGen refused the whole surface. It is now grown (its boundary
@@ -586,7 +705,9 @@ TEST(CleanRawMesh, OpenFixturesStayOpenAndNothingIsFoldedOverThem) {
   MeshD m;
   std::string error;
   ASSERT_TRUE(molremesh::LoadMesh(m, molremesh::test::Fixture("nonmanifold_fan.ply"), error)) << error;
-  const auto r = Clean::Do(m);
+  Clean::Params keepFlat; // its pieces are flat: kept here to test what happens to them
+  keepFlat.flatComponentVolume = -1;
+  const auto r = Clean::Do(m, keepFlat);
   ExpectValidResult(m, r);
   EXPECT_EQ(r.removedNonManifoldFaces, 1u);
   EXPECT_EQ(r.closedHoles, 0u); // a cap on a flat sheet would fold onto it

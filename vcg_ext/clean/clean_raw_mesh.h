@@ -16,8 +16,11 @@
 //   5. non_manifold_vertices.h: split non-manifold vertices that join closed fans (two surfaces
 //      touching at a point); boundary "pinch" vertices (a hole boundary passing twice through a
 //      vertex) are left to step 9, which closes them into a single manifold fan;
-//   6. component_filter.h (the component policy): remove connected components with fewer than
-//      params.minComponentFraction of the faces (never the largest one);
+//   6. component_filter.h (the component policy): keep every component that encloses a volume (outer
+//      surface, cavities, separate parts); remove pieces that enclose none (fewer than 4 faces, or at
+//      most params.flatComponentVolume * mean edge^3) and, only when asked, components below
+//      params.minComponentVolume, params.minComponentFaces or params.minComponentFraction (never
+//      the largest one);
 //   7. non_manifold_vertices.h: a split copy and its original that both kept faces touch (a
 //      self-intersection): the copy's fan (or else the original's) is removed and its hole refilled
 //      without the vertex (region_refill.h); if that is impossible, the copy is moved by 1% of the way
@@ -39,9 +42,19 @@
 //      (cavities of a molecular surface), whose normals point into the cavity (negative volume), as
 //      PyMOL writes them;
 //  12. delete vertices left without faces, compact the vectors, measure the result (MeshQuality).
+//  13. volumetric_fallback.h, with params.volumetricFallback: when a defect is left (a component that
+//      cannot be oriented, an unrepaired tangle, an unfilled hole, a boundary, non-manifold or
+//      degenerate element, a self-intersection when measured), the whole surface is rebuilt as the
+//      boundary of the union of the regions it encloses (OpenVDB; cavities and separate parts kept)
+//      and steps 1-12 run again on it; the remaining-defect counts are then the second pass's. The
+//      rebuilt surface is a re-extraction: there the "vertices never move" guarantee below does not
+//      hold. Without the volume layer (a build without OpenVDB) the step reports "not available".
 // Every action is counted in the returned CleanRawMeshResult (clean_result.h); nothing is removed
 // silently. The remove-and-refill steps (7, 8, 9 and 10) share one budget of params.maxRepairAttempts
-// attempts (clean::CleanRunState, clean_params.h), drawn from in that order.
+// attempts (clean::CleanRunState, clean_params.h), drawn from in that order, and each of them has its
+// own budget of fill planning work, params.fillWorkPerFace per input face (loop_fill.h): a region or
+// loop whose fill the budget cannot pay for is left as it is (counted in fillBudgetRefusals and as an
+// unrepaired tangle or unfilled hole), so the whole cleaning stays near-linear in the faces.
 //
 // Contract
 //  - Refusals happen before the mesh is touched: an empty mesh, a point cloud, NaN/Inf coordinates
@@ -88,6 +101,7 @@
 #include <vcg_ext/clean/orientation.h>
 #include <vcg_ext/clean/tangle_repair.h>
 #include <vcg_ext/clean/vertex_merging.h>
+#include <vcg_ext/clean/volumetric_fallback.h>
 #include <vcg_ext/core/index.h>
 #include <vcg_ext/core/input_check.h>
 #include <vcg_ext/geometry/mean_edge_length.h>
@@ -149,6 +163,12 @@ private:
     if (params.maxHoleEdges < 0) return refuse("maxHoleEdges must be >= 0");
     if (!(params.minComponentFraction >= 0 && params.minComponentFraction <= 1))
       return refuse("minComponentFraction must be in [0, 1]");
+    if (!(params.minComponentVolume >= 0) || !std::isfinite(params.minComponentVolume) ||
+        params.minComponentFaces < 0 || std::isnan(params.flatComponentVolume) ||
+        !std::isfinite(params.flatComponentVolume))
+      return refuse("minComponentVolume and minComponentFaces must be >= 0, flatComponentVolume finite");
+    if (!(params.fillWorkPerFace >= 0) || !std::isfinite(params.fillWorkPerFace))
+      return refuse("fillWorkPerFace must be a finite number >= 0");
     if (params.maxRepairGrowth < 0 || params.maxRepairRegionFaces < 0 || params.maxRepairAttempts < 0)
       return refuse("maxRepairGrowth, maxRepairRegionFaces and maxRepairAttempts must be >= 0");
     if (!(params.maxFillDihedral > 0 && params.maxFillDihedral <= 180))
@@ -215,23 +235,28 @@ private:
     const SplitPairs splitEarly = SplitNonManifoldVertices(m, true, r); // step 5
 
     Progress(cb, 40, "Removing small components");
-    RemoveSmallComponents(m, params, r); // step 6
+    RemoveSmallComponents(m, params, meanEdge, r); // step 6
 
     clean::CleanRunState run{params, meanEdge, PlaneTolerance(m, meanEdge), params.maxRepairAttempts};
+    clean::ResetFillBudget(run, inputFaces);
     SeparateSplitCopies(m, splitEarly, run, r); // step 7
     if (params.repairTangles) {
       Progress(cb, 50, "Repairing local tangles");
+      clean::ResetFillBudget(run, inputFaces);
       RepairTangles(m, run, flipped, orientationConflicts, r); // step 8
     }
     r.nonOrientableComponents = Orientation::CountNonOrientableComponents(m, orientationConflicts);
     r.unrepairedTangles += r.nonOrientableComponents; // at least one orientation defect in each
 
     Progress(cb, 70, "Closing holes");
+    clean::ResetFillBudget(run, inputFaces);
     CloseHoles(m, run, r); // step 9
 
     Progress(cb, 85, "Splitting remaining non-manifold vertices");
     const SplitPairs splitLate = SplitNonManifoldVertices(m, false, r); // step 10
+    clean::ResetFillBudget(run, inputFaces);
     SeparateSplitCopies(m, splitLate, run, r);
+    r.fillBudgetRefusals = run.fillBudgetRefusals;
 
     Progress(cb, 90, "Orienting closed components outward");
     flipped.resize(m.face.size(), 0);
@@ -241,8 +266,58 @@ private:
 
     Progress(cb, 95, "Compacting");
     r.removedOrphanedVertices = Finish(m); // step 12
+    r.keptComponents = clean::KeptComponents(m);
     r.reportAfter = Quality::Compute(m, qp);
+    if (params.volumetricFallback && !FallbackTrigger(r).empty()) FallBack(m, params, cb, r); // step 13
     Progress(cb, 100, "Clean raw mesh done");
+  }
+
+  /// The defects the local steps left, as a phrase; empty when there is none.
+  static std::string FallbackTrigger(const Result& r) {
+    std::string s;
+    auto add = [&s](std::size_t n, const char* what) {
+      if (n > 0) s += (s.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+    };
+    add(r.nonOrientableComponents, "non-orientable components");
+    add(r.unrepairedTangles, "unrepaired tangles");
+    add(r.unfilledHoles, "unfilled holes");
+    add(r.reportAfter.boundaryEdges, "boundary edges");
+    add(r.reportAfter.nonManifoldEdges + r.reportAfter.nonManifoldVertices, "non-manifold elements");
+    add(r.reportAfter.degenerateFaces, "degenerate faces");
+    if (r.reportAfter.selfIntersectionsComputed)
+      add(r.reportAfter.selfIntersectingFaces, "self-intersecting faces");
+    return s;
+  }
+
+  /// Step 13 (volumetric_fallback.h): the whole surface rebuilt from the union of what it encloses,
+  /// then cleaned again without the fallback; the remaining-defect counts become the second pass's.
+  static void FallBack(MeshType& m, const Params& params, vcg::CallBackPos* cb, Result& r) {
+    Progress(cb, 96, "Rebuilding the surface volumetrically");
+    r.fallback.trigger = FallbackTrigger(r);
+    const clean::VolumetricFallbackOutcome o = clean::RebuildVolumetrically(m, params.threads);
+    r.fallback.available = o.available;
+    r.fallback.message = o.message;
+    if (!o.ok) return; // m unchanged
+    r.fallback.rebuilt = true;
+    r.fallback.facesIn = o.facesIn, r.fallback.facesOut = o.facesOut;
+    r.fallback.areaIn = o.areaIn, r.fallback.areaOut = o.areaOut;
+    r.fallback.voxelSize = o.voxelSize;
+    Params again = params;
+    again.volumetricFallback = false;
+    Result second;
+    Run(m, again, nullptr, second);
+    r.nonOrientableComponents = second.nonOrientableComponents;
+    r.unrepairedTangles = second.unrepairedTangles;
+    r.unfilledHoles = second.unfilledHoles;
+    r.largestUnfilledHoleEdges = second.largestUnfilledHoleEdges;
+    r.remainingDegenerateFaces = second.remainingDegenerateFaces;
+    r.touchingSplitVertices = second.touchingSplitVertices;
+    r.removedComponents.insert(r.removedComponents.end(), second.removedComponents.begin(),
+                               second.removedComponents.end());
+    r.removedSmallComponents += second.removedSmallComponents;
+    r.removedComponentFaces += second.removedComponentFaces;
+    r.keptComponents = std::move(second.keptComponents);
+    r.reportAfter = second.reportAfter;
   }
 
   static void MergeAndDropBadFaces(MeshType& m, const Params& params, double meanEdge, Result& r) {
@@ -269,11 +344,12 @@ private:
   }
 
   /// The component policy (component_filter.h).
-  static void RemoveSmallComponents(MeshType& m, const Params& params, Result& r) {
+  static void RemoveSmallComponents(MeshType& m, const Params& params, double meanEdge, Result& r) {
     clean::ComponentFilterCounts c;
-    clean::RemoveSmallComponents(m, params.minComponentFraction, c);
+    clean::RemoveSmallComponents(m, params, meanEdge, c);
     r.removedSmallComponents = c.removedComponents;
     r.removedComponentFaces = c.removedFaces;
+    r.removedComponents = std::move(c.removed);
   }
 
   static void SeparateSplitCopies(MeshType& m, const SplitPairs& pairs, clean::CleanRunState& run,

@@ -5,10 +5,30 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 #include <vcg_ext/quality/mesh_quality.h>
 
 namespace molremesh {
+
+/// One connected component (through shared edges), kept or removed by the component policy.
+struct CleanComponent {
+  std::size_t faces = 0;
+  double volume = 0;            ///< signed volume about its centroid: > 0 outward, < 0 a cavity (inward)
+  bool closed = true;           ///< no boundary edge
+  const char* reason = nullptr; ///< why it was removed (component_filter.h); nullptr for a kept one
+};
+
+/// Step 13, the volumetric fallback (volumetric_fallback.h).
+struct CleanFallback {
+  std::string trigger;    ///< the defects the local steps left (empty: the fallback was not needed)
+  bool available = false; ///< built with the volume layer
+  bool rebuilt = false;   ///< the surface was replaced by its rebuild
+  std::string message;    ///< why it was not rebuilt, when triggered
+  std::size_t facesIn = 0, facesOut = 0; ///< faces before the rebuild and of the rebuild
+  double areaIn = 0, areaOut = 0;        ///< area replaced (the whole surface) and rebuilt
+  double voxelSize = 0;
+};
 
 /// What CleanRawMesh did. Counts are of elements, in the order of the steps.
 struct CleanRawMeshResult {
@@ -37,8 +57,12 @@ struct CleanRawMeshResult {
   std::size_t flippedComponents = 0;          ///< closed components turned outward (included above)
   std::size_t nonOrientableComponents = 0;    ///< components that cannot be oriented (left as they are)
   // Steps 6 and 8: components and self-intersections
-  std::size_t removedSmallComponents = 0; ///< components below minComponentFraction
+  std::size_t removedSmallComponents = 0; ///< components removed by the component policy (see
+                                          ///< component_filter.h: no enclosed volume, or below an opt-in
+                                          ///< threshold)
   std::size_t removedComponentFaces = 0;  ///< their faces
+  std::vector<CleanComponent> removedComponents; ///< each of them, with its volume and reason
+  std::vector<CleanComponent> keptComponents;    ///< the components of the result, largest first
   std::size_t repairedTangles =
       0; ///< tangles (intersecting or incoherently oriented faces) removed and refilled
   std::size_t unrepairedTangles = 0; ///< tangles left as they are: intersecting regions with no valid refill,
@@ -51,8 +75,13 @@ struct CleanRawMeshResult {
   std::size_t holeFacesRemoved = 0;         ///< faces removed around them
   std::size_t unfilledHoles = 0;            ///< boundary loops left open (too long, or no valid fill)
   std::size_t largestUnfilledHoleEdges = 0; ///< edges of the longest loop left open
+  std::size_t fillBudgetRefusals = 0;       ///< fills refused because their step's planning budget
+                                            ///< (params.fillWorkPerFace) ran out: the region or loop
+                                            ///< was left as it is (among the unrepaired / unfilled)
   // Step 12
   std::size_t removedOrphanedVertices = 0; ///< vertices left without faces by the removals above
+  CleanFallback fallback; ///< step 13; when rebuilt, the remaining-defect counts above are the
+                          ///< second pass's (over the rebuild), the others the first pass's
 
   /// MeshQuality's report of the input and of the result, with the cleaning's degenerateAreaEpsilon
   /// and thread count, self-intersections included when params.measureSelfIntersections (MeshQuality's

@@ -7,7 +7,9 @@
 // count). A triangle that fails is forbidden and the triangulation recomputed. PlanLoopFill needs
 // fresh VF adjacency apart from what the context records (faces added since the last rebuild are in
 // ctx.grid and their edges in ctx.addedEdges) and modifies nothing; CommitFill adds the faces with
-// self-referencing FF adjacency, valid until the next RebuildTopology.
+// self-referencing FF adjacency, valid until the next RebuildTopology. Each triangulation is paid
+// for from the step's fill budget (CleanRunState::fillWorkLeft): a loop the budget cannot pay for is
+// refused, which bounds the step's time whatever the loops' lengths and retries.
 #pragma once
 
 #include <vcg/complex/complex.h>
@@ -42,12 +44,14 @@ public:
     FaceGrid* grid = nullptr;
     std::unordered_set<std::uint64_t> addedEdges;
     double minArea = 0, maxDihedral = kPi, tol = 0;
+    CleanRunState* run = nullptr; ///< the step's fill budget (fillWorkLeft); none when null
   };
 
   /// The context of the fills of one run step, registering new faces in `grid`.
-  static FillContext MakeContext(const CleanRunState& run, FaceGrid* grid) {
+  static FillContext MakeContext(CleanRunState& run, FaceGrid* grid) {
     FillContext ctx;
     ctx.grid = grid;
+    ctx.run = &run;
     // Fill triangles must be clearly proper, far above the degenerate threshold.
     ctx.minArea = std::max(run.params.degenerateAreaEpsilon, 1e-8) * run.meanEdge * run.meanEdge;
     ctx.maxDihedral = run.params.maxFillDihedral * kPi / 180.0;
@@ -84,6 +88,7 @@ public:
       bool accepted = false;
       const int maxAttempts = 4 * n + 16;
       for (int attempt = 0; attempt < maxAttempts && !accepted; ++attempt) {
+        if (!DrawFillWork(ctx, n)) return false;
         if (!hole_triangulation::Triangulate(p, outer, diagonalOk, forbidden, ctx.minArea, ctx.maxDihedral,
                                              local)) {
           return false;
@@ -145,6 +150,19 @@ public:
   }
 
 private:
+  /// Takes the cost of one triangulation of an n-sided lobe (the candidate triangles it evaluates)
+  /// from the step's budget; false, counted as a refusal, when the budget cannot pay for it.
+  static bool DrawFillWork(const FillContext& ctx, int n) {
+    if (!ctx.run || ctx.run->fillBudgetUnbounded) return true;
+    const double cost = double(n) * double(n) * double(n) / 6.0;
+    if (cost > ctx.run->fillWorkLeft) {
+      ++ctx.run->fillBudgetRefusals;
+      return false;
+    }
+    ctx.run->fillWorkLeft -= cost;
+    return true;
+  }
+
   static bool EdgeExists(MeshType& m, const FillContext& ctx, Index a, Index b) {
     return ctx.addedEdges.count(EdgeKey(a, b)) > 0 || EdgeExistsInStar(m, a, b);
   }

@@ -17,6 +17,23 @@
 
 namespace molremesh {
 
+/// A short list of components: the count, then the first few with their faces, enclosed volume
+/// (negative: a cavity) and, for removed ones, why.
+inline std::string CleanComponentList(const char* name, const std::vector<CleanComponent>& list) {
+  constexpr std::size_t kShown = 8;
+  std::string s = std::string(name) + ": " + std::to_string(list.size());
+  for (std::size_t i = 0; i < list.size() && i < kShown; ++i) {
+    char buffer[160];
+    std::snprintf(buffer, sizeof buffer, "%s%zu faces, volume %.6g%s%s%s", i == 0 ? " (" : "; ",
+                  list[i].faces, list[i].volume, list[i].closed ? "" : " open", list[i].reason ? ", " : "",
+                  list[i].reason ? list[i].reason : "");
+    s += buffer;
+  }
+  if (list.size() > kShown) s += "; ...";
+  if (!list.empty()) s += ")";
+  return s + "\n";
+}
+
 /// CleanRawMesh: every count of the cleaning, then the validity of the result.
 inline std::string CleanRawMeshSummary(const CleanRawMeshResult& r) {
   if (!r.ok) return "clean raw mesh refused: " + r.message + "\n";
@@ -60,7 +77,20 @@ inline std::string CleanRawMeshSummary(const CleanRawMeshResult& r) {
   line("faces removed around grown holes", r.holeFacesRemoved);
   line("unfilled holes", r.unfilledHoles);
   line("largest unfilled hole edges", r.largestUnfilledHoleEdges);
+  line("fills refused for the planning budget", r.fillBudgetRefusals);
   line("removed orphaned vertices", r.removedOrphanedVertices);
+  if (!r.fallback.trigger.empty()) {
+    s += "volumetric fallback: " +
+         (r.fallback.rebuilt ? std::string("rebuilt") : "not rebuilt (" + r.fallback.message + ")") +
+         " after " + r.fallback.trigger + "\n";
+    if (r.fallback.rebuilt) {
+      line("rebuilt faces in", r.fallback.facesIn);
+      line("rebuilt faces out", r.fallback.facesOut);
+      real("rebuilt area in", r.fallback.areaIn);
+      real("rebuilt area out", r.fallback.areaOut);
+      real("rebuild voxel size", r.fallback.voxelSize);
+    }
+  }
   if (r.reportBefore.selfIntersectionsComputed) {
     line("self-intersecting faces before", r.reportBefore.selfIntersectingFaces);
     line("self-intersecting faces after", r.reportAfter.selfIntersectingFaces);
@@ -73,6 +103,8 @@ inline std::string CleanRawMeshSummary(const CleanRawMeshResult& r) {
   line("degenerate faces after", r.reportAfter.degenerateFaces);
   line("components after", r.reportAfter.components);
   s += "genus after: " + std::to_string(r.reportAfter.genus) + "\n";
+  s += CleanComponentList("kept components", r.keptComponents);
+  s += CleanComponentList("removed components", r.removedComponents);
   real("area before", r.reportBefore.area);
   real("area after", r.reportAfter.area);
   real("volume before", r.reportBefore.volume);
