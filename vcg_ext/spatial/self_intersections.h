@@ -252,6 +252,23 @@ inline void TestCells(const std::vector<std::pair<std::uint64_t, Index>>& cellFa
 /// arrays, cells are tested in parallel into per-thread lists of intersecting pairs, and the
 /// pairs are gathered from those lists. Every pair is tested exactly once whichever thread
 /// tests it, so the counts do not depend on the thread count.
+namespace self_intersection_detail {
+
+/// The bounding box of every triangle, and in all the box of them all.
+inline std::vector<vcg::Box3d> FaceBoxes(const std::vector<std::array<Index, 3>>& tris,
+                                         const std::vector<Point>& points, int threads, vcg::Box3d& all) {
+  std::vector<vcg::Box3d> boxes(tris.size());
+  ParallelFor(tris.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i)
+      for (Index v : tris[i]) boxes[i].Add(points[v]);
+  });
+  all.SetNull();
+  for (const vcg::Box3d& box : boxes) all.Add(box);
+  return boxes;
+}
+
+} // namespace self_intersection_detail
+
 inline std::vector<IntersectingPair> FindSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
                                                            const std::vector<Point>& points,
                                                            double medianEdge, int threads,
@@ -262,13 +279,8 @@ inline std::vector<IntersectingPair> FindSelfIntersections(const std::vector<std
   if (n < 2) return result;
   threads = ResolveThreadCount(threads);
 
-  std::vector<vcg::Box3d> boxes(n);
-  ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
-    for (std::size_t i = begin; i < end; ++i)
-      for (Index v : tris[i]) boxes[i].Add(points[v]);
-  });
   vcg::Box3d all;
-  for (const vcg::Box3d& box : boxes) all.Add(box);
+  const std::vector<vcg::Box3d> boxes = FaceBoxes(tris, points, threads, all);
   const FaceCells cells = AssignCells(boxes, all, medianEdge, threads);
 
   std::vector<PlanarTriangle> planar(n);
@@ -298,13 +310,8 @@ inline double CandidatePairBound(const std::vector<std::array<Index, 3>>& tris,
   using namespace self_intersection_detail;
   const std::size_t n = tris.size();
   if (n < 2) return 0;
-  std::vector<vcg::Box3d> boxes(n);
-  ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
-    for (std::size_t i = begin; i < end; ++i)
-      for (Index v : tris[i]) boxes[i].Add(points[v]);
-  });
   vcg::Box3d all;
-  for (const vcg::Box3d& box : boxes) all.Add(box);
+  const std::vector<vcg::Box3d> boxes = FaceBoxes(tris, points, threads, all);
   const FaceCells cells = AssignCells(boxes, all, medianEdge, threads);
   std::vector<std::uint64_t> keys;
   keys.reserve(cells.entries);
