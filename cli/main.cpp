@@ -42,6 +42,7 @@
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/quality/quality_report_format.h>
 #include <vcg_ext/pipeline/memory_budget.h>
+#include <vcg_ext/pipeline/region_remeshing.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>
 #include <vcg_ext/quality/stage_summary.h>
 #include <vcg_ext/spatial/self_intersections.h>
@@ -282,7 +283,59 @@ struct RemeshOptions {
   bool quiet = false;   ///< nothing but warnings and errors
   bool verbose = false; ///< progress, the per-stage table and the stage summaries
   bool checkEachStage = false;
+  std::string regionPath; ///< --region: remesh only these faces (a text file of 0-based face indices)
 };
+
+/// The face indices of a --region file: whitespace-separated 0-based integers, each at most once.
+/// A file that cannot be read or holds anything else is a command-line mistake.
+std::vector<std::size_t> ReadRegionFile(const std::string& path) {
+  std::ifstream file(path);
+  if (!file) throw UsageError("--region: cannot read '" + path + "'");
+  std::vector<std::size_t> faces;
+  std::string word;
+  while (file >> word) {
+    const bool digits = !word.empty() &&
+                        std::all_of(word.begin(), word.end(), [](char ch) { return ch >= '0' && ch <= '9'; });
+    errno = 0;
+    const unsigned long long value = digits ? std::strtoull(word.c_str(), nullptr, 10) : 0;
+    if (!digits || errno == ERANGE)
+      throw UsageError("--region: '" + word + "' in '" + path +
+                       "' is not a face index (0-based whole number)");
+    faces.push_back(std::size_t(value));
+  }
+  if (faces.empty()) throw UsageError("--region: '" + path + "' lists no face");
+  std::vector<std::size_t> sorted = faces;
+  std::sort(sorted.begin(), sorted.end());
+  if (const auto dup = std::adjacent_find(sorted.begin(), sorted.end()); dup != sorted.end())
+    throw UsageError("--region: face " + std::to_string(*dup) + " is listed twice in '" + path + "'");
+  return faces;
+}
+
+/// remesh --region: the stages run on the listed faces only (RegionRemeshing); everything else is
+/// written back unchanged, the new faces last.
+int RunRegionRemesh(MeshD& mesh, const std::string& input, const std::string& output,
+                    const molremesh::RemeshPipeline<MeshD>::Params& pipeline,
+                    const std::vector<std::size_t>& faces, bool quiet) {
+  molremesh::RegionRemeshing<MeshD>::Params params;
+  params.pipeline = pipeline;
+  params.faceMask.assign(mesh.face.size(), 0);
+  for (const std::size_t f : faces) {
+    if (f >= mesh.face.size())
+      throw InputError("--region: face " + std::to_string(f) + " is out of range (" + input + " has " +
+                       std::to_string(mesh.face.size()) + " faces)");
+    params.faceMask[f] = 1;
+  }
+  const molremesh::RegionRemeshing<MeshD>::Result result =
+      molremesh::RegionRemeshing<MeshD>::Do(mesh, params);
+  if (!result.ok) throw InputError(result.message);
+  std::string error;
+  if (!molremesh::SaveMesh(mesh, output, error)) throw InputError(error);
+  if (!quiet)
+    std::cerr << "molremesh: " << input << " -> " << output << ": region " << result.regionFacesIn << " -> "
+              << result.regionFacesOut << " faces, " << result.borderVertices << " border vertices kept, "
+              << std::fixed << std::setprecision(1) << result.seconds << " s\n";
+  return 0;
+}
 
 std::string SelfIntersectionsText(const molremesh::QualityReport& r) {
   return r.selfIntersectionsComputed ? std::to_string(r.selfIntersectingPairs) : std::string("n/a");
@@ -372,9 +425,15 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.memoryLimitMB = options.memoryLimitMB;
   CheckMeshOutput(output);
   if (!options.jsonPath.empty()) CheckWritable(options.jsonPath, "the JSON file");
+  std::vector<std::size_t> regionFaces;
+  if (!options.regionPath.empty()) {
+    if (!options.jsonPath.empty()) throw UsageError("--region: --json is not available for a region run");
+    regionFaces = ReadRegionFile(options.regionPath);
+  }
 
   MeshD mesh;
   LoadValidMesh(mesh, input);
+  if (!regionFaces.empty()) return RunRegionRemesh(mesh, input, output, params, regionFaces, options.quiet);
   const bool progress = options.verbose || (!options.quiet && ::isatty(STDERR_FILENO));
   auto log = [progress](const std::string& line) {
     if (progress) std::cerr << "molremesh: " << line << std::endl;
@@ -555,6 +614,9 @@ CLI::App* AddRemeshCommand(CLI::App& app, CommandLine& c) {
       ->add_flag("--verbose", c.remesh.verbose,
                  "Print progress on stderr and the per-stage table and stage summaries on stdout")
       ->excludes(quiet);
+  remesh->add_option("--region", c.remesh.regionPath,
+                     "Remesh only these faces: a text file of 0-based face indices (whitespace-separated); "
+                     "the rest and the region's border stay unchanged, the new faces come last");
   remesh->add_flag("--check-each-stage", c.remesh.checkEachStage,
                    "Count self-intersections after every stage (default: input and output only)");
   return remesh;

@@ -8,6 +8,7 @@
 #include <vcg_ext/geometry/mean_edge_length.h>
 #include <vcg_ext/quality/quality_report_format.h>
 #include <vcg_ext/quality/quality_report_html.h>
+#include <vcg_ext/pipeline/region_remeshing.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>
 #include <vcg_ext/quality/stage_summary.h>
 
@@ -18,8 +19,11 @@
 #include <QCoreApplication>
 #include <QFileInfo>
 
+#include <vcg/complex/algorithms/update/selection.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <sstream>
 #include <string>
@@ -463,6 +467,13 @@ void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel& m, Rich
     AddThreadsParameter(parameters);
     AddMemoryLimitParameter(parameters);
     AddNewLayerParameter(parameters);
+    // Offered only when the layer has selected faces: there is nothing to restrict to otherwise.
+    if (vcg::tri::UpdateSelection<CMeshO>::FaceCount(m.cm) > 0)
+      parameters.addParam(RichBool(
+          "regionOnly", false, "Remesh only selected faces",
+          "On: the stages run on the selected faces only (clean, CVT and segmentation are skipped); every "
+          "other face and the selection's border stay exactly as they are, the new faces are added last "
+          "and selected (CLI --region)."));
     break;
   }
   case FP_RANDOM_SEGMENTATION: {
@@ -807,13 +818,26 @@ bool FilterMolRemeshPlugin::runStages(MeshDocument& md, MeshModel& mm, const std
   params.rar.progress = params.cvt.progress;
   molremesh::MeshD work;
   molremesh::CopyTriangles(work, mm.cm);
-  const molremesh::PipelineResult result =
-      Pipeline::Do(work, params, [this, &progress](const std::string& line) {
-        progress.OnLogLine(line);
-        Log("%s", line.c_str());
-      });
-  if (!result.ok) return fail(QString::fromStdString(result.message));
-  logRun(result);
+  std::vector<std::uint8_t> selected; // per face of the result: the remeshed region
+  if (parameters.hasParameter("regionOnly") && parameters.getBool("regionOnly")) {
+    molremesh::RegionRemeshing<molremesh::MeshD>::Params regionParams;
+    regionParams.pipeline = params;
+    for (const auto& f : mm.cm.face) // in CopyTriangles' order
+      if (!f.IsD()) regionParams.faceMask.push_back(f.IsS() ? 1 : 0);
+    const auto region = molremesh::RegionRemeshing<molremesh::MeshD>::Do(work, regionParams);
+    if (!region.ok) return fail(QString::fromStdString(region.message));
+    Log("%s", region.message.c_str());
+    for (const std::string& line : region.stageSummaries) Log("%s", line.c_str());
+    selected = region.faceMask;
+  } else {
+    const molremesh::PipelineResult result =
+        Pipeline::Do(work, params, [this, &progress](const std::string& line) {
+          progress.OnLogLine(line);
+          Log("%s", line.c_str());
+        });
+    if (!result.ok) return fail(QString::fromStdString(result.message));
+    logRun(result);
+  }
 
   MeshModel* target = &mm;
   if (newLayer) {
@@ -835,6 +859,8 @@ bool FilterMolRemeshPlugin::runStages(MeshDocument& md, MeshModel& mm, const std
                      MeshModel::MM_WEDGTEXCOORD | MeshModel::MM_VERTTEXCOORD);
   }
   molremesh::CopyTriangles(target->cm, work);
+  for (std::size_t fi = 0; fi < selected.size() && fi < target->cm.face.size(); ++fi)
+    if (selected[fi]) target->cm.face[fi].SetS();
   target->UpdateBoxAndNormals();
   return true;
 }

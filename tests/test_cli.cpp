@@ -615,3 +615,55 @@ TEST(CliFromAClone, DemoRunsOnTheBundledData) {
   EXPECT_EQ(demo.err.find("warning"), std::string::npos) << demo.err;
   std::filesystem::remove_all(dir);
 }
+
+// remesh --region: the listed faces of a sphere are remeshed alone; every other face comes out
+// first, with the same corners, in the same order; bad region files are refused writing nothing.
+TEST(Cli, RegionRemeshKeepsTheOtherFacesAndRefusesBadFaceLists) {
+  const auto dir = TempDir("cli_region");
+  const std::string in = (dir / "sphere.ply").string(), out = (dir / "out.ply").string();
+  molremesh::MeshD sphere;
+  Icosphere(sphere, 3);
+  std::string error;
+  ASSERT_TRUE(molremesh::SaveMesh(sphere, in, error)) << error;
+  molremesh::MeshD input;
+  ASSERT_TRUE(molremesh::LoadMesh(input, in, error)) << error;
+  std::vector<bool> inRegion(input.face.size(), false);
+  {
+    std::ofstream region(dir / "region.txt");
+    for (std::size_t fi = 0; fi < input.face.size(); ++fi)
+      if (input.face[fi].cP(0)[2] > 0.7 && input.face[fi].cP(1)[2] > 0.7 && input.face[fi].cP(2)[2] > 0.7) {
+        inRegion[fi] = true;
+        region << fi << (fi % 2 ? "\n" : " ");
+      }
+  }
+  const CommandResult r = Cli("remesh " + Quote(in) + " " + Quote(out) + " --target-length 0.05 --region " +
+                              Quote((dir / "region.txt").string()));
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  ExpectMentions(r.err, {"region", "border vertices kept"});
+  molremesh::MeshD output;
+  ASSERT_TRUE(molremesh::LoadMesh(output, out, error)) << error;
+  std::size_t kept = 0;
+  for (std::size_t fi = 0; fi < input.face.size(); ++fi) {
+    if (inRegion[fi]) continue;
+    ASSERT_LT(kept, output.face.size());
+    for (int k = 0; k < 3; ++k) ASSERT_TRUE(output.face[kept].cP(k) == input.face[fi].cP(k)) << "face " << fi;
+    ++kept;
+  }
+  EXPECT_GT(output.face.size(), input.face.size()); // the cap at a finer target length
+  std::filesystem::remove(out);
+
+  auto withList = [&](const std::string& list) {
+    std::ofstream(dir / "list.txt") << list;
+    return Cli("remesh " + Quote(in) + " " + Quote(out) + " --region " + Quote((dir / "list.txt").string()));
+  };
+  ExpectUsageError(withList("1 2 x"), "not a face index");
+  ExpectUsageError(withList("3 -4"), "not a face index");
+  ExpectUsageError(withList("5 7 5"), "listed twice");
+  ExpectUsageError(withList(""), "lists no face");
+  ExpectInputError(withList("0 99999"), "out of range");
+  ExpectUsageError(
+      Cli("remesh " + Quote(in) + " " + Quote(out) + " --region " + Quote((dir / "none.txt").string())),
+      "cannot read");
+  EXPECT_FALSE(std::filesystem::exists(out));
+  std::filesystem::remove_all(dir);
+}

@@ -8,6 +8,7 @@
 #include <QPluginLoader>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <set>
@@ -20,6 +21,7 @@
 #include <common/interfaces.h>
 #include <common/meshmodel.h>
 #include <vcg/complex/algorithms/create/platonic.h>
+#include <vcg/complex/algorithms/update/bounding.h>
 #include <vcg/complex/append.h>
 #include <wrap/io_trimesh/import_ply.h>
 
@@ -620,4 +622,46 @@ int main(int argc, char** argv) {
   QApplication app(argc, argv);
   ::testing::InitGoogleTest(&argc, argv);
   return RUN_ALL_TESTS();
+}
+
+TEST_F(PluginTest, FullPipelineRemeshesOnlyTheSelectedFacesWhenAsked) {
+  MeshModel* mm = AddLayer("");
+  vcg::tri::Sphere(mm->cm, 3);
+  vcg::tri::UpdateBounding<CMeshO>::Box(mm->cm);
+  std::vector<std::array<vcg::Point3f, 3>> outside;
+  for (auto& f : mm->cm.face) {
+    if (f.P(0)[2] > 0.7f && f.P(1)[2] > 0.7f && f.P(2)[2] > 0.7f)
+      f.SetS();
+    else
+      outside.push_back({f.P(0), f.P(1), f.P(2)});
+  }
+  const std::size_t selected = mm->cm.face.size() - outside.size();
+  {
+    RichParameterList parameters;
+    plugin->initParameterSet(FindFilter(plugin, kFull), *mm, parameters);
+    ASSERT_TRUE(parameters.hasParameter("regionOnly")) << "offered: the layer has a face selection";
+    EXPECT_FALSE(parameters.getBool("regionOnly")) << "off by default";
+  }
+  ASSERT_TRUE(Apply(kFull, *mm, {{"targetLength", 0.05f}}, {{"regionOnly", true}}))
+      << plugin->errorMsg().toStdString();
+  MeshModel* result = document.mm();
+  ASSERT_NE(result, mm);
+  ASSERT_GT(result->cm.face.size(), outside.size() + selected) << "the cap at a finer length";
+  for (std::size_t fi = 0; fi < outside.size(); ++fi) {
+    const auto& f = result->cm.face[fi];
+    ASSERT_TRUE(f.cP(0) == outside[fi][0] && f.cP(1) == outside[fi][1] && f.cP(2) == outside[fi][2]) << fi;
+    EXPECT_FALSE(f.IsS());
+  }
+  for (std::size_t fi = outside.size(); fi < result->cm.face.size(); ++fi)
+    EXPECT_TRUE(result->cm.face[fi].IsS());
+  EXPECT_EQ(molremesh::MeshQuality<CMeshO>::Compute(result->cm).boundaryEdges, 0u);
+  document.delMesh(result);
+  document.delMesh(mm);
+
+  MeshModel* unselected = AddLayer("");
+  vcg::tri::Sphere(unselected->cm, 2);
+  RichParameterList parameters;
+  plugin->initParameterSet(FindFilter(plugin, kFull), *unselected, parameters);
+  EXPECT_FALSE(parameters.hasParameter("regionOnly")) << "nothing selected: not offered";
+  document.delMesh(unselected);
 }

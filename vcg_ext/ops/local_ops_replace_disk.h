@@ -216,6 +216,13 @@ bool LocalRemeshingOps<MeshType>::ReplaceDisk(const std::vector<FacePointer>& re
   }
   for (const VertexPointer u : interior)
     if (locked_[VIndex(*u)]) return Refuse(OpRefusal::Locked), false;
+  // An inner edge of the disk (between two of its faces) disappears: like a split, collapse or
+  // flip, the replacement never removes an edge between two locked vertices.
+  for (const FacePointer f : region)
+    for (int e = 0; e < 3; ++e)
+      if (locked_[VIndex(*f->V(e))] && locked_[VIndex(*f->V((e + 1) % 3))] && f->FFp(e) != f &&
+          faceStamp_[FIndex(*f->FFp(e))] == stamp_)
+        return Refuse(OpRefusal::Locked), false;
 
   const OpRefusal cover = CheckDiskTriangulation(loop, triangles, total);
   if (cover != OpRefusal::None) return Refuse(cover), false;

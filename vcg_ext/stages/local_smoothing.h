@@ -71,14 +71,17 @@ public:
     double targetEdgeLength = 0; ///< L; 0 = mean edge length of the mesh
     int threads = 0;             ///< 0 = all cores (the output does not depend on it)
     std::uint64_t seed = 1;      ///< seed of every random choice (the stage makes none)
-    double minAngleDeg = 30.0;   ///< triangles with a smaller angle are bad
-    double maxAngleDeg = 90.0;   ///< triangles with an angle at or above it are bad (obtuse)
-    int iterations = 5;          ///< rounds (cap)
-    bool laplacian = true;       ///< Laplacian translation of the bad region's vertices
-    bool flips = true;           ///< flips of the bad triangles' edges
-    bool collapses = true;       ///< collapses of the small-angle triangles' shortest edges
-    bool splits = true;          ///< splits of the obtuse triangles' longest edges
-    double maxEdgeFactor = 2.0;  ///< a collapse never creates an edge longer than this x L
+    /// Vertices never moved or removed, nor joined by an edit of an edge between two of them
+    /// (indexed like m.vert at entry; nonzero = locked; empty = none): the border of a region.
+    std::vector<std::uint8_t> lockedVertices;
+    double minAngleDeg = 30.0;  ///< triangles with a smaller angle are bad
+    double maxAngleDeg = 90.0;  ///< triangles with an angle at or above it are bad (obtuse)
+    int iterations = 5;         ///< rounds (cap)
+    bool laplacian = true;      ///< Laplacian translation of the bad region's vertices
+    bool flips = true;          ///< flips of the bad triangles' edges
+    bool collapses = true;      ///< collapses of the small-angle triangles' shortest edges
+    bool splits = true;         ///< splits of the obtuse triangles' longest edges
+    double maxEdgeFactor = 2.0; ///< a collapse never creates an edge longer than this x L
     LocalOpsGuards guards =
         DefaultGuards(); ///< guards of every edit (minAngleDeg is set to Params::minAngleDeg)
   };
@@ -125,7 +128,8 @@ public:
       Session session(ops, params, L);
       session.Run(r);
     };
-    if (!RunLocalEdits(m, reference, L, guards, params.threads, error, r.refused, edits))
+    if (!RunLocalEdits(m, reference, L, guards, params.threads, params.lockedVertices, error, r.refused,
+                       edits))
       return finish(false, refused + error);
     r.badAfter = Measure(m, params, r.smallAfter, r.obtuseAfter, r.angleMinAfter, r.angleMaxAfter);
     return finish(true, "local smoothing: " + std::to_string(r.badBefore) + " -> " +
@@ -350,9 +354,10 @@ private:
       }
       if (bestKeep < 0) return false;
       VertexType& keeper = bestKeep == 0 ? *a : *b;
+      const bool wasLocked = ops_.IsLocked(keeper);
       ops_.SetLocked(keeper, true);
       const bool ok = ops_.CollapseEdge(&f, z, params_.maxEdgeFactor * L_);
-      ops_.SetLocked(keeper, false);
+      ops_.SetLocked(keeper, wasLocked);
       return ok;
     }
 

@@ -19,8 +19,10 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace molremesh {
 
@@ -110,15 +112,25 @@ bool IsFreeVertex(Ops& ops, VertexType& v) {
   return !(v.IsD() || v.VFp() == nullptr || ops.IsLocked(v) || ops.IsBoundaryVertex(v));
 }
 
-/// Runs a local stage's edits on m: LocalRemeshingOps with `guards` (lazy footpoints), then
-/// body(ops), then the number of edits the guards refused into `refused`, the ops' Finish and the
-/// adjacency recomputed. False with `error` when the ops cannot start (m untouched).
+/// Locks the vertices flagged in `locked` (indexed like the ops' mesh; empty = none).
+template <class Ops>
+void LockVertices(Ops& ops, const std::vector<std::uint8_t>& locked) {
+  auto& m = ops.Mesh();
+  for (std::size_t i = 0; i < locked.size() && i < m.vert.size(); ++i)
+    if (locked[i]) ops.SetLocked(m.vert[i], true);
+}
+
+/// Runs a local stage's edits on m: LocalRemeshingOps with `guards` (lazy footpoints) and the
+/// vertices flagged in `locked` locked, then body(ops), then the number of edits the guards refused into
+/// `refused`, the ops' Finish and the adjacency recomputed. False with `error` when the ops cannot start (m
+/// untouched).
 template <class MeshType, class Body>
 bool RunLocalEdits(MeshType& m, const ReferenceSurface<MeshType>& reference, double L,
-                   const LocalOpsGuards& guards, int threads, std::string& error, std::size_t& refused,
-                   Body&& body) {
+                   const LocalOpsGuards& guards, int threads, const std::vector<std::uint8_t>& locked,
+                   std::string& error, std::size_t& refused, Body&& body) {
   LocalRemeshingOps<MeshType> ops(m, reference, L, guards, threads);
   if (!ops.Init(&error, false, true, /*lazyFootpoints=*/true)) return false;
+  LockVertices(ops, locked);
   body(ops);
   refused = ops.Stats().Refused();
   ops.Finish();

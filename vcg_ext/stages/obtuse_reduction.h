@@ -78,6 +78,9 @@ public:
     double targetEdgeLength = 0; ///< L; 0 = mean edge length of the mesh
     int threads = 0;             ///< 0 = all cores (the output does not depend on it)
     std::uint64_t seed = 1;      ///< seed of every random choice (the stage makes none)
+    /// Vertices never moved or removed, nor joined by an edit of an edge between two of them
+    /// (indexed like m.vert at entry; nonzero = locked; empty = none): the border of a region.
+    std::vector<std::uint8_t> lockedVertices;
     std::vector<double> thresholdsDeg{110.0, 100.0,
                                       90.0}; ///< max-angle thresholds of vertex translation, in order
     int iterationsPerThreshold = 20;         ///< translation rounds per threshold (cap)
@@ -141,7 +144,8 @@ public:
       Session session(ops, params);
       session.Run(r);
     };
-    if (!RunLocalEdits(m, reference, L, guards, params.threads, error, r.refused, edits))
+    if (!RunLocalEdits(m, reference, L, guards, params.threads, params.lockedVertices, error, r.refused,
+                       edits))
       return finish(false, refused + error);
     Measure(m, lowest, params.threads, r.obtuseAfter, above, r.angleMinAfter, r.angleMaxAfter);
     return finish(true, "obtuse reduction: " + std::to_string(r.obtuseBefore) + " -> " +

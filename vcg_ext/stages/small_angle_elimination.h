@@ -74,9 +74,12 @@ public:
   static LocalOpsGuards DefaultGuards() { return GuardsWithAngleBounds(30.0, 120.0); }
 
   struct Params {
-    double targetEdgeLength = 0;    ///< L; 0 = mean edge length of the mesh
-    int threads = 0;                ///< 0 = all cores (the output does not depend on it)
-    std::uint64_t seed = 1;         ///< seed of every random choice (the stage makes none)
+    double targetEdgeLength = 0; ///< L; 0 = mean edge length of the mesh
+    int threads = 0;             ///< 0 = all cores (the output does not depend on it)
+    std::uint64_t seed = 1;      ///< seed of every random choice (the stage makes none)
+    /// Vertices never moved or removed, nor joined by an edit of an edge between two of them
+    /// (indexed like m.vert at entry; nonzero = locked; empty = none): the border of a region.
+    std::vector<std::uint8_t> lockedVertices;
     double minAngleDeg = 30.0;      ///< goal: no angle below it
     double collapseAngleDeg = 20.0; ///< triangles with an angle below it get their shortest edge collapsed
     double maxAngleDeg = 120.0; ///< moves and refills never create an angle above it (unless one was there)
@@ -155,7 +158,8 @@ public:
         ops.SetGuards(guards);
       }
     };
-    if (!RunLocalEdits(m, reference, L, guards, params.threads, error, r.refused, edits))
+    if (!RunLocalEdits(m, reference, L, guards, params.threads, params.lockedVertices, error, r.refused,
+                       edits))
       return finish(false, refused + error);
     r.smallFacesAfter = CountSmall(m, params.minAngleDeg, params.threads, r.angleMinAfter);
     return finish(true, "small-angle elimination: " + std::to_string(r.smallFacesBefore) + " -> " +
@@ -308,9 +312,10 @@ private:
         int w = 0;
         if (!ops_.FindEdge(&m_.vert[ai], &m_.vert[bi], g, w)) return false;
         const std::size_t keepIndex = o.keep == 0 ? ai : bi;
+        const bool wasLocked = ops_.IsLocked(m_.vert[keepIndex]);
         if (o.keep < 2) ops_.SetLocked(m_.vert[keepIndex], true);
         const bool ok = ops_.CollapseEdge(g, w, params_.maxEdgeFactor * L_);
-        if (o.keep < 2) ops_.SetLocked(m_.vert[keepIndex], false);
+        if (o.keep < 2) ops_.SetLocked(m_.vert[keepIndex], wasLocked);
         if (ok) return true;
       }
       return false;

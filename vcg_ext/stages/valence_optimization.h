@@ -108,9 +108,12 @@ public:
   using Point = vcg::Point3d;
 
   struct Params {
-    double targetEdgeLength = 0;   ///< L (scales tolerances); 0 = mean edge length of the mesh
-    int threads = 0;               ///< 0 = all cores (the output does not depend on it)
-    std::uint64_t seed = 1;        ///< unused: the stage makes no random choice
+    double targetEdgeLength = 0; ///< L (scales tolerances); 0 = mean edge length of the mesh
+    int threads = 0;             ///< 0 = all cores (the output does not depend on it)
+    std::uint64_t seed = 1;      ///< unused: the stage makes no random choice
+    /// Vertices never moved or removed, nor joined by an edit of an edge between two of them
+    /// (indexed like m.vert at entry; nonzero = locked; empty = none): the border of a region.
+    std::vector<std::uint8_t> lockedVertices;
     double minAngleDeg = 30.0;     ///< no edit leaves more faces with an angle below it
     double maxAngleDeg = 120.0;    ///< no edit leaves more faces with an angle above it
     double areaFactor = 9.0;       ///< phase 2: a hole's area stays below this times the mean face area
@@ -579,6 +582,7 @@ ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const
     result.message = "valence optimization refused: " + error;
     return result;
   }
+  LockVertices(ops, params.lockedVertices);
   // The scans below read the mesh only: they run on every thread, each counting (or flagging)
   // into its own slots, so their results do not depend on the thread count.
   const int threads = ResolveThreadCount(params.threads);
