@@ -278,6 +278,9 @@ struct RemeshOptions {
   double mergeTolerance = molremesh::CleanRawMesh<MeshD>::Params().mergeTolerance;
   int maxHoleEdges = molremesh::CleanRawMesh<MeshD>::Params().maxHoleEdges;
   double minComponentPercent = 100.0 * molremesh::CleanRawMesh<MeshD>::Params().minComponentFraction;
+  double minComponentVolume = molremesh::CleanRawMesh<MeshD>::Params().minComponentVolume;
+  int minComponentFaces = molremesh::CleanRawMesh<MeshD>::Params().minComponentFaces;
+  bool noVolumetricFallback = !molremesh::CleanRawMesh<MeshD>::Params().volumetricFallback;
   double memoryLimitMB = 0; // 0: the memory available when the run starts; < 0: no check
   std::string jsonPath;
   bool quiet = false;   ///< nothing but warnings and errors
@@ -422,6 +425,9 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.clean.mergeTolerance = options.mergeTolerance;
   params.clean.maxHoleEdges = options.maxHoleEdges;
   params.clean.minComponentFraction = options.minComponentPercent / 100.0;
+  params.clean.minComponentVolume = options.minComponentVolume;
+  params.clean.minComponentFaces = options.minComponentFaces;
+  params.clean.volumetricFallback = !options.noVolumetricFallback;
   params.memoryLimitMB = options.memoryLimitMB;
   CheckMeshOutput(output);
   if (!options.jsonPath.empty()) CheckWritable(options.jsonPath, "the JSON file");
@@ -579,6 +585,20 @@ void AddCleanOptions(CLI::App* remesh, CommandLine& c) {
           "Clean: remove components with fewer than this % of the faces (never the largest; 0 keeps all)")
       ->default_val(c.remesh.minComponentPercent)
       ->check(Number(0, 100));
+  remesh
+      ->add_option("--min-component-volume", c.remesh.minComponentVolume,
+                   "Clean: remove components enclosing less than this volume (cubic units of the mesh, "
+                   "Å³ for molecular surfaces; never the largest; 0 keeps outer surfaces and cavities alike)")
+      ->default_val(c.remesh.minComponentVolume)
+      ->check(Number(0));
+  remesh
+      ->add_option("--min-component-faces", c.remesh.minComponentFaces,
+                   "Clean: remove components with fewer faces than this (never the largest; 0 keeps all)")
+      ->default_val(c.remesh.minComponentFaces)
+      ->check(WholeNumber(0));
+  remesh->add_flag("--no-volumetric-fallback", c.remesh.noVolumetricFallback,
+                   "Clean: do not rebuild the surface from a volume when the local repairs leave defects "
+                   "(the output may then be invalid, exit status 3)");
 }
 
 CLI::App* AddRemeshCommand(CLI::App& app, CommandLine& c) {

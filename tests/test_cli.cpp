@@ -256,7 +256,7 @@ TEST(Cli, SurfaceLiftIsAnOption) {
 
 // Two interpenetrating closed spheres form a tangle the clean stage's local steps cannot repair
 // (no valid refill); its volumetric fallback rebuilds them as the boundary of their union, so the
-// output is valid. The help text still documents exit status 3 (written but invalid).
+// output is valid; with the fallback turned off it is written but invalid (exit status 3).
 TEST(Cli, InterpenetratingSpheresAreRebuiltIntoAValidOutput) {
   const auto dir = TempDir("cli_invalid_output");
   molremesh::MeshD spheres, second;
@@ -269,7 +269,7 @@ TEST(Cli, InterpenetratingSpheresAreRebuiltIntoAValidOutput) {
   ASSERT_TRUE(molremesh::SaveMesh(spheres, input, error)) << error;
   const CommandResult r = Cli("remesh --quiet " + Quote(input) + " " + Quote(out) + " --json " + Quote(json));
   // The clean stage's volumetric fallback rebuilds the two interpenetrating spheres as their union:
-  // the output is valid. (The exit-3 path needs the fallback off, which has no CLI option yet.)
+  // the output is valid.
   EXPECT_EQ(r.exitCode, 0) << r.err;
   EXPECT_TRUE(std::filesystem::exists(out));
   const auto j = ReadJson(json);
@@ -277,6 +277,13 @@ TEST(Cli, InterpenetratingSpheresAreRebuiltIntoAValidOutput) {
   // The figures agree: the written mesh has no intersecting pair.
   const auto report = nlohmann::json::parse(Cli("report --json " + Quote(out)).out);
   EXPECT_EQ(report["self_intersecting_pairs"].get<int>(), 0);
+  // Without the fallback the tangle stays: the output is written, said to be invalid, exit status 3.
+  const std::string invalidOut = (dir / "invalid.ply").string();
+  const CommandResult kept =
+      Cli("remesh --quiet --no-volumetric-fallback " + Quote(input) + " " + Quote(invalidOut));
+  EXPECT_EQ(kept.exitCode, 3) << kept.err;
+  EXPECT_TRUE(std::filesystem::exists(invalidOut));
+  EXPECT_NE(kept.err.find("was written but is not a valid surface mesh"), std::string::npos) << kept.err;
   // The exit statuses are in the help text.
   EXPECT_NE(Cli("--help").out.find("3 output written but not a valid surface mesh"), std::string::npos);
   std::filesystem::remove_all(dir);

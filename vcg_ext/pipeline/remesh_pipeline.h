@@ -142,7 +142,8 @@ public:
   static constexpr int kMinFaces = 4; ///< smaller meshes are refused
   struct Params {
     std::vector<PipelineStage> stages = AllStages(); ///< which stages run (in pipeline order)
-    /// L for every stage; 0 = mean edge length of the (cleaned) input. RAR's sizing field is capped
+    /// L for every stage; 0 = mean edge length of the (cleaned) input, or of the raw input when the
+    /// cleaning rebuilt it volumetrically. RAR's sizing field is capped
     /// at L, so the output's mean edge is 0.78-0.93 L on molecular surfaces, unless
     /// rar.rar.meanEdgeAtTarget scales the field to a mean edge of L.
     double targetEdgeLength = 0;
@@ -572,6 +573,10 @@ private:
     run.targets.unfilledHoles = r.unfilledHoles;
     run.targets.largestUnfilledHoleEdges = r.largestUnfilledHoleEdges;
     run.targets.maxHoleEdges = cleanParams.maxHoleEdges;
+    // A volumetric rebuild's triangles follow its voxels (about half the input's edges): L stays
+    // the input's mean edge, so a rebuilt surface is remeshed at the density the input asked for.
+    if (r.fallback.rebuilt && !(params.targetEdgeLength > 0) && r.reportBefore.meanEdgeLength > 0)
+      run.result.targetEdgeLength = r.reportBefore.meanEdgeLength;
     // The cleaning measured its result already: that report is the stage's when it was taken
     // the way the stage report would be.
     if (cleanParams.degenerateAreaEpsilon == run.qualityParams.degenerateAreaEpsilon &&
