@@ -15,11 +15,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cstring>
 #include <exception>
-#include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <new>
@@ -27,9 +24,6 @@
 #include <string>
 #include <system_error>
 #include <thread>
-
-#include <fcntl.h>
-#include <unistd.h>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -53,19 +47,9 @@
 namespace {
 
 using molremesh::MeshD;
+using namespace molremesh::cli;
 
-constexpr int kExitUsage = 1;         ///< a command-line mistake: nothing was read or written
-constexpr int kExitBadInput = 2;      ///< unusable input, a failed stage, a run refused for memory
-constexpr int kExitInvalidOutput = 3; ///< the output was written, but it is not a valid surface mesh
 const char* const kCommands = "report, color, remesh, surface";
-
-struct InputError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
-/// A command-line mistake found after parsing (an unwritable output path, a bad stage list).
-struct UsageError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 // --- Values checked on the command line ------------------------------------------------------
 
@@ -153,29 +137,6 @@ int ClampThreads(int requested) {
   std::cerr << "molremesh: warning: --threads " << requested << " is more than 4 per core (" << cores
             << " cores); using " << cap << '\n';
   return cap;
-}
-
-/// Throws UsageError unless `path` can be written, before any work and without destroying
-/// anything: an existing file is opened for appending (not truncated), a new one is created and
-/// removed again.
-void CheckWritable(const std::string& path, const std::string& what) {
-  std::error_code ec;
-  const std::filesystem::file_status status = std::filesystem::status(path, ec);
-  const std::string cannot = "cannot write " + what + " '" + path + "': ";
-  if (std::filesystem::is_directory(status)) throw UsageError(cannot + "it is a directory");
-  const bool exists = std::filesystem::exists(status);
-  const int fd = exists ? ::open(path.c_str(), O_WRONLY | O_APPEND | O_NONBLOCK)
-                        : ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0666);
-  if (fd < 0) throw UsageError(cannot + std::strerror(errno));
-  ::close(fd);
-  if (!exists) ::unlink(path.c_str());
-}
-
-/// The output's format must be known and the file writable before hours of work are spent.
-void CheckMeshOutput(const std::string& path) {
-  CheckWritable(path, "the output");
-  if (molremesh::FormatFromPath(path) == molremesh::MeshFormat::Unknown)
-    throw UsageError("cannot write '" + path + "': unknown format (use .ply, .off, .obj or .stl)");
 }
 
 /// Loads and validates a triangle mesh, or throws InputError with the reason.
@@ -340,65 +301,6 @@ int RunRegionRemesh(MeshD& mesh, const std::string& input, const std::string& ou
   return 0;
 }
 
-std::string SelfIntersectionsText(const molremesh::QualityReport& r) {
-  return r.selfIntersectionsComputed ? std::to_string(r.selfIntersectingPairs) : std::string("n/a");
-}
-
-/// The default output of a run: one line, input and output figures side by side.
-std::string SummaryLine(const std::string& input, const std::string& output,
-                        const molremesh::PipelineResult& result, double seconds) {
-  const molremesh::QualityReport& in = result.input;
-  const molremesh::QualityReport& out = result.stages.empty() ? result.input : result.stages.back().after;
-  std::ostringstream s;
-  s << std::fixed << std::setprecision(1) << "molremesh: " << input << " -> " << output << ": " << in.faces
-    << " -> " << out.faces << " faces, θmin " << in.angleMin << "° -> " << out.angleMin << "°, θmax "
-    << in.angleMax << "° -> " << out.angleMax << "°, V567 " << std::setprecision(2) << in.v567Percent
-    << " % -> " << out.v567Percent << " %, SI " << SelfIntersectionsText(in) << " -> "
-    << SelfIntersectionsText(out) << ", " << std::setprecision(1) << seconds << " s";
-  return s.str();
-}
-
-/// --verbose: the per-stage table, the stage times and every stage's summary, on stdout.
-void PrintStageTables(const std::string& input, const std::string& output,
-                      const molremesh::PipelineResult& result, std::uint64_t seed) {
-  std::vector<molremesh::NamedReport> columns{{"input", result.input}};
-  for (const auto& stage : result.stages) columns.emplace_back(stage.name, stage.after);
-  std::cout << "Remeshed " << input << " -> " << output << " (target edge length " << result.targetEdgeLength
-            << ", seed " << seed << ")\n"
-            << molremesh::FormatQualityTable(columns);
-  std::cout << molremesh::StageTimesLine(result) << '\n';
-  for (const auto& stage : result.stages)
-    if (!stage.summary.empty()) {
-      std::cout << "-- " << stage.name << ":\n" << stage.summary;
-      if (stage.summary.back() != '\n') std::cout << '\n';
-    }
-}
-
-/// --json: the per-stage figures; a file that cannot be written is an error (the mesh is written).
-void WriteStageJson(const std::string& input, const std::string& output,
-                    const molremesh::PipelineResult& result, std::uint64_t seed, const std::string& path) {
-  nlohmann::json j;
-  j["input_file"] = input;
-  j["output_file"] = output;
-  j["target_edge_length"] = result.targetEdgeLength;
-  j["seed"] = seed;
-  j["seconds"] = result.seconds;
-  j["input"] = molremesh::ToJson(result.input);
-  for (const auto& stage : result.stages)
-    j["stages"].push_back({{"name", stage.name},
-                           {"seconds", stage.seconds},
-                           {"summary", stage.summary},
-                           {"after", molremesh::ToJson(stage.after)}});
-  j["verdict"] = {{"valid", result.verdict.Valid()},
-                  {"all_targets_met", result.verdict.AllMet()},
-                  {"invalid", result.verdict.invalid},
-                  {"short_of", result.verdict.shortOf}};
-  std::ofstream file(path);
-  file << j.dump(2) << '\n';
-  file.close();
-  if (!file) throw InputError("cannot write the JSON file '" + path + "' (" + output + " is written)");
-}
-
 int RunRemesh(const std::string& input, const std::string& output, const RemeshOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   using Pipeline = molremesh::RemeshPipeline<MeshD>;
@@ -440,29 +342,20 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   MeshD mesh;
   LoadValidMesh(mesh, input);
   if (!regionFaces.empty()) return RunRegionRemesh(mesh, input, output, params, regionFaces, options.quiet);
-  const bool progress = options.verbose || (!options.quiet && ::isatty(STDERR_FILENO));
+  OutputRequest request;
+  request.start = start;
+  request.input = input;
+  request.output = output;
+  request.jsonPath = options.jsonPath;
+  request.quiet = options.quiet;
+  request.verbose = options.verbose;
+  request.seed = options.seed;
+  const bool progress = request.Progress();
   auto log = [progress](const std::string& line) {
     if (progress) std::cerr << "molremesh: " << line << std::endl;
   };
   const molremesh::PipelineResult result = Pipeline::Do(mesh, params, log);
-  if (result.refusedForMemory)
-    throw InputError(result.message + "; --memory-limit MB sets the limit, -1 turns the check off");
-  if (!result.ok) throw InputError(result.message);
-
-  std::string error;
-  if (!molremesh::SaveMesh(mesh, output, error)) throw InputError(error);
-  if (options.verbose) PrintStageTables(input, output, result, options.seed);
-  if (!options.jsonPath.empty()) WriteStageJson(input, output, result, options.seed, options.jsonPath);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (!options.quiet) std::cerr << SummaryLine(input, output, result, seconds) << '\n';
-  // Not progress: printed with --quiet too.
-  std::cerr << result.verdict.Lines("molremesh: warning: " + output + " ");
-  if (!result.verdict.Valid()) {
-    std::cerr << "molremesh: warning: " << output
-              << " was written but is not a valid surface mesh (exit status " << kExitInvalidOutput << ")\n";
-    return kExitInvalidOutput;
-  }
-  return 0;
+  return SaveRemeshed(mesh, request, result);
 }
 
 /// The stages allocate and free large scratch vectors over and over (per Lloyd iteration, per
@@ -671,7 +564,7 @@ int main(int argc, char** argv) {
   CLI::App* report = AddReportCommand(app, c);
   CLI::App* color = AddColorCommand(app, c);
   CLI::App* remesh = AddRemeshCommand(app, c);
-  molremesh::SurfaceCommand surface(app);
+  molremesh::cli::SurfaceCommand surface(app);
 
   const std::string first = argc > 1 ? argv[1] : "";
   if (!first.empty() && first[0] != '-' && !IsCommand(first)) {

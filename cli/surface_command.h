@@ -1,9 +1,7 @@
-// `molremesh surface`: a structure file (PQR, PDB, .gz) to a molecular surface mesh, and with
-// --remesh on to the remeshed, solver-ready mesh in one command. Parse, call vcg_ext, report.
-//
-// Bad input (an unreadable structure, an unwritable output, a refused run) throws
-// std::runtime_error, which main reports as one "molremesh: error:" line with exit status 2; an
-// output that was written but is not valid returns exit status 3, as `remesh` does.
+// `molremesh surface`: a structure file (PQR, PDB, .gz) to a molecular surface mesh, remeshed by
+// the full pipeline into a solver-ready mesh in one command (--no-remesh: the raw level-set
+// surface). Parse, call vcg_ext, report as `remesh` does (cli/remesh_output.h): the same output
+// levels, exit statuses and JSON, with the structure's atom counts and the surface's figures added.
 #pragma once
 
 #include <CLI/CLI.hpp>
@@ -11,31 +9,31 @@
 #include <tbb/global_control.h>
 
 #include <vcg_ext/core/mesh_types.h>
-#include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>
 #include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/quality/output_verdict.h>
 #include <vcg_ext/quality/quality_report_format.h>
 #include <vcg_ext/structure/sasa_reference.h>
 #include <vcg_ext/structure/structure_file.h>
 #include <vcg_ext/volume/molecular_surface.h>
 
-#include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <map>
 #include <memory>
-#include <stdexcept>
+#include <sstream>
 #include <string>
 
-#include "report_json.h"
+#include "remesh_output.h"
 
-namespace molremesh {
+namespace molremesh::cli {
 
 /// The subcommand and its options: construct it on the app before parsing, Run it when Chosen.
 class SurfaceCommand {
 public:
   explicit SurfaceCommand(CLI::App& app) {
     app_ = app.add_subcommand("surface", "Build the molecular surface of a structure file (PQR, PDB, .gz) "
-                                         "and, with --remesh, remesh it");
+                                         "and remesh it (--no-remesh: the raw surface)");
     app_->add_option("input", input_,
                      "Structure file: .pqr (radii from the file), .pdb/.ent (ProtOr radii), .gz")
         ->required();
@@ -66,12 +64,13 @@ public:
     app_->add_flag("--all-altlocs", read_.allAltLocs, "Keep every alternate location (default: the first)");
     app_->add_option("--radii", radii_, "PDB radii: protor (default) or naccess (freesasa's classifiers)")
         ->check(CLI::IsMember({"protor", "naccess"}));
-    app_->add_flag("--remesh", remesh_, "Run the full remeshing pipeline on the extracted surface");
-    app_->add_option(
-            "--target-length", targetLength_,
-            "Target edge length (Å) of --remesh (default 1.0; the grid spacing is 0.4 of it by default)")
+    app_->add_flag("--no-remesh", noRemesh_,
+                   "Write the raw level-set surface (default: the full remeshing pipeline runs on it)");
+    app_->add_option("--target-length", targetLength_,
+                     "Target edge length (Å) of the remeshing (default 1.0; the grid spacing is 0.4 of it "
+                     "by default)")
         ->check(CLI::PositiveNumber);
-    app_->add_option("--seed", seed_, "Seed of every random choice of --remesh")->default_val(1);
+    app_->add_option("--seed", seed_, "Seed of every random choice of the remeshing")->default_val(1);
     app_->add_option("--threads", threads_, "Worker threads, 0 = all cores (output does not depend on it)")
         ->default_val(0)
         ->check(CLI::NonNegativeNumber);
@@ -80,17 +79,26 @@ public:
                      "memory available at the start, -1 = no check")
         ->default_val(0)
         ->check(CLI::Range(-1.0, 1e12));
-    app_->add_option("--json", jsonPath_, "Also write the figures as JSON to this file");
-    app_->add_flag("--quiet", quiet_, "No progress lines on stderr");
+    app_->add_option("--json", request_.jsonPath,
+                     "Also write the figures as JSON to this file (remesh's, with the structure's and the "
+                     "surface's)");
+    CLI::Option* quiet =
+        app_->add_flag("--quiet", request_.quiet, "Print nothing but warnings and errors (stderr)");
+    app_->add_flag("--verbose", request_.verbose,
+                   "Print progress on stderr and the quality tables (per stage) on stdout")
+        ->excludes(quiet);
   }
 
   bool Chosen() const { return app_->parsed(); }
 
-  /// Runs the command; returns the exit status or throws std::runtime_error for bad input.
+  /// Runs the command; returns the exit status or throws InputError / UsageError.
   int Run() {
-    if (FormatFromPath(output_) == MeshFormat::Unknown)
-      throw std::runtime_error("cannot write '" + output_ +
-                               "': unknown format (use .ply, .off, .obj or .stl)");
+    request_.start = std::chrono::steady_clock::now();
+    request_.input = input_;
+    request_.output = output_;
+    request_.seed = seed_;
+    CheckMeshOutput(output_);
+    if (!request_.jsonPath.empty()) CheckWritable(request_.jsonPath, "the JSON file");
     std::unique_ptr<tbb::global_control> threadLimit;
     if (threads_ > 0)
       threadLimit =
@@ -99,7 +107,7 @@ public:
     read_.radii =
         radii_ == "naccess" ? StructureReadOptions::Radii::Naccess : StructureReadOptions::Radii::ProtOr;
     const StructureReadResult atoms = ReadStructureFile(input_, read_);
-    if (!atoms.ok) throw std::runtime_error(atoms.message);
+    if (!atoms.ok) throw InputError(atoms.message);
     Log("read " + std::to_string(atoms.atoms.size()) + " atoms from " + input_ +
         " (skipped: " + std::to_string(atoms.skippedWaters) + " water, " +
         std::to_string(atoms.skippedHydrogens) + " hydrogen, " + std::to_string(atoms.skippedHetatm) +
@@ -109,35 +117,31 @@ public:
     surface_.threads = threads_;
     MeshD mesh;
     const MolecularSurfaceResult surface = MolecularSurface<MeshD>::Build(atoms.atoms, mesh, surface_);
-    if (!surface.ok) throw std::runtime_error("'" + input_ + "': " + surface.message);
+    if (!surface.ok) throw InputError("'" + input_ + "': " + surface.message);
     Log("surface " + std::string(ToString(surface_.kind)) + ": " + std::to_string(surface.faces) +
         " faces, " + std::to_string(surface.components) + " components (" + std::to_string(surface.cavities) +
         " cavities) in " + std::to_string(surface.seconds) + " s");
 
-    nlohmann::json j = SurfaceJson(atoms, surface);
-    int status = 0;
-    if (remesh_)
-      status = RemeshAndSave(mesh, j);
-    else
-      status = CheckAndSave(mesh, j);
-    if (!jsonPath_.empty()) std::ofstream(jsonPath_) << j.dump(2) << '\n';
-    return status;
+    const nlohmann::json figures = SurfaceJson(atoms, surface);
+    const std::string what =
+        std::to_string(atoms.atoms.size()) + " atoms, " + ToString(surface_.kind) + " surface ";
+    return noRemesh_ ? SaveRaw(mesh, figures, what) : Remesh(mesh, figures, what);
   }
 
 private:
   void Log(const std::string& line) const {
-    if (!quiet_) std::cerr << "molremesh: " << line << std::endl;
+    if (request_.Progress()) std::cerr << "molremesh: " << line << std::endl;
   }
 
+  /// The structure's and the surface's figures, added to the JSON of the run.
   nlohmann::json SurfaceJson(const StructureReadResult& atoms, const MolecularSurfaceResult& s) const {
     nlohmann::json j;
-    j["input_file"] = input_;
-    j["output_file"] = output_;
-    j["atoms"] = atoms.atoms.size();
-    j["skipped"] = {{"waters", atoms.skippedWaters},
-                    {"hydrogens", atoms.skippedHydrogens},
-                    {"hetatm", atoms.skippedHetatm},
-                    {"altlocs", atoms.skippedAltLocs}};
+    j["structure"] = {{"atoms", atoms.atoms.size()},
+                      {"skipped",
+                       {{"waters", atoms.skippedWaters},
+                        {"hydrogens", atoms.skippedHydrogens},
+                        {"hetatm", atoms.skippedHetatm},
+                        {"altlocs", atoms.skippedAltLocs}}}};
     j["surface"] = {{"type", ToString(surface_.kind)},
                     {"probe", surface_.probeRadius},
                     {"grid", surface_.gridSpacing},
@@ -154,31 +158,48 @@ private:
       sasa.probeRadius = surface_.probeRadius;
       const double reference = FreesasaArea(atoms.atoms, sasa);
       j["surface"]["freesasa_sasa"] = reference;
-      std::cout << "SAS area " << s.area << " Å², freesasa (Lee-Richards) " << reference << " Å² ("
-                << 100.0 * (s.area - reference) / reference << " %)\n";
+      if (request_.verbose)
+        std::cout << "SAS area " << s.area << " Å², freesasa (Lee-Richards) " << reference << " Å² ("
+                  << 100.0 * (s.area - reference) / reference << " %)\n";
     }
     return j;
   }
 
-  /// The raw extraction: measured, written; status 3 when it is not a valid closed surface.
-  int CheckAndSave(MeshD& mesh, nlohmann::json& j) const {
+  /// --no-remesh: the raw extraction, measured and written; status 3 unless it is a valid closed
+  /// surface (closedness is the extraction's promise, so a boundary makes it invalid).
+  int SaveRaw(MeshD& mesh, const nlohmann::json& figures, const std::string& what) const {
     MeshQuality<MeshD>::Params qp;
     qp.threads = threads_;
     const QualityReport q = MeshQuality<MeshD>::Compute(mesh, qp);
-    j["quality"] = ToJson(q);
+    OutputVerdict verdict = OutputVerdict::Of(q, OutputTargets{});
+    verdict.invalid.insert(verdict.invalid.end(), verdict.shortOf.begin(), verdict.shortOf.end());
+    verdict.shortOf.clear();
     std::string error;
-    if (!SaveMesh(mesh, output_, error)) throw std::runtime_error(error);
-    std::cout << "Surface of " << input_ << " -> " << output_ << "\n" << FormatQualityTable(q, "value");
-    const bool valid = q.boundaryEdges == 0 && q.nonManifoldEdges == 0 && q.nonManifoldVertices == 0 &&
-                       q.degenerateFaces == 0 && q.selfIntersectingFaces == 0;
-    if (valid) return 0;
-    std::cerr << "molremesh: warning: " << output_ << " was written but is not a valid closed surface "
-              << "(exit status 3)\n";
-    return 3;
+    if (!SaveMesh(mesh, output_, error)) throw InputError(error);
+    if (request_.verbose)
+      std::cout << "Surface of " << input_ << " -> " << output_ << "\n" << FormatQualityTable(q, "value");
+    if (!request_.jsonPath.empty()) {
+      nlohmann::json j = {{"input_file", input_},
+                          {"output_file", output_},
+                          {"seconds", request_.Seconds()},
+                          {"output", ToJson(q)},
+                          {"verdict", VerdictJson(verdict)}};
+      for (const auto& [key, value] : figures.items()) j[key] = value;
+      WriteJsonFile(j, request_.jsonPath, output_);
+    }
+    if (!request_.quiet) {
+      std::ostringstream s;
+      s << std::fixed << std::setprecision(1) << "molremesh: " << input_ << " -> " << output_ << ": " << what
+        << q.faces << " faces, θmin " << q.angleMin << "°, θmax " << q.angleMax << "°, V567 "
+        << std::setprecision(2) << q.v567Percent << " %, SI " << SelfIntersectionsText(q) << ", "
+        << std::setprecision(1) << request_.Seconds() << " s";
+      std::cerr << s.str() << '\n';
+    }
+    return VerdictStatus(verdict, output_);
   }
 
   /// The full pipeline on the extraction, as `molremesh remesh` runs it with its defaults.
-  int RemeshAndSave(MeshD& mesh, nlohmann::json& j) const {
+  int Remesh(MeshD& mesh, const nlohmann::json& figures, const std::string& what) const {
     using Pipeline = RemeshPipeline<MeshD>;
     Pipeline::Params params;
     params.targetEdgeLength = targetLength_;
@@ -187,39 +208,18 @@ private:
     params.restoreOnFailure = false;
     params.memoryLimitMB = surface_.memoryLimitMB;
     const PipelineResult result = Pipeline::Do(mesh, params, [this](const std::string& line) { Log(line); });
-    if (result.refusedForMemory)
-      throw std::runtime_error(result.message + "; --memory-limit MB sets the limit, -1 turns the check off");
-    if (!result.ok) throw std::runtime_error(result.message);
-    std::string error;
-    if (!SaveMesh(mesh, output_, error)) throw std::runtime_error(error);
-    const QualityReport& out = result.stages.empty() ? result.input : result.stages.back().after;
-    std::cout << "Surface of " << input_ << " remeshed -> " << output_ << " (target edge length "
-              << result.targetEdgeLength << ")\n"
-              << FormatQualityTable({{"extracted", result.input}, {"remeshed", out}});
-    j["remesh"] = {{"target_edge_length", result.targetEdgeLength},
-                   {"seconds", result.seconds},
-                   {"input", ToJson(result.input)},
-                   {"output", ToJson(out)},
-                   {"verdict",
-                    {{"valid", result.verdict.Valid()},
-                     {"all_targets_met", result.verdict.AllMet()},
-                     {"invalid", result.verdict.invalid},
-                     {"short_of", result.verdict.shortOf}}}};
-    std::cerr << result.verdict.Lines("molremesh: warning: " + output_ + " ");
-    if (result.verdict.Valid()) return 0;
-    std::cerr << "molremesh: warning: " << output_
-              << " was written but is not a valid surface mesh (exit status 3)\n";
-    return 3;
+    return SaveRemeshed(mesh, request_, result, figures, what);
   }
 
   CLI::App* app_ = nullptr;
-  std::string input_, output_, radii_ = "protor", jsonPath_;
+  std::string input_, output_, radii_ = "protor";
   MolecularSurface<MeshD>::Params surface_;
   StructureReadOptions read_;
-  bool outerOnly_ = false, noHetatm_ = false, remesh_ = false, quiet_ = false;
+  OutputRequest request_;
+  bool outerOnly_ = false, noHetatm_ = false, noRemesh_ = false;
   double targetLength_ = 1.0;
   std::uint64_t seed_ = 1;
   int threads_ = 0;
 };
 
-} // namespace molremesh
+} // namespace molremesh::cli

@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -221,7 +222,7 @@ TEST(MolecularSurfaceShared, SasAreaMatchesFreesasaAndSesIsValid) {
   }
 }
 
-// The command: `molremesh surface IN OUT [--type] [--probe] [--grid] [--remesh]`.
+// The command: `molremesh surface IN OUT [--type] [--probe] [--grid] [--no-remesh]`.
 using molremesh::test::Quote;
 
 const std::string kCli = MOLREMESH_CLI_PATH;
@@ -231,15 +232,49 @@ TEST(MolecularSurfaceCli, WritesAValidSurfaceOfASmallPqrAndRefusesBadInputInOneL
   std::ofstream(dir / "two.pqr") << "ATOM 1 C ALA A 1 0.0 0.0 0.0 0.0 1.8\n"
                                     "ATOM 2 C ALA A 1 2.5 0.0 0.0 0.0 1.7\n";
   const std::string out = (dir / "two.ply").string(), json = (dir / "two.json").string();
-  const auto ok = molremesh::test::Run(kCli + " surface " + Quote((dir / "two.pqr").string()) + " " +
-                                       Quote(out) + " --type ses --grid 0.3 --quiet --json " + Quote(json));
+  const auto ok =
+      molremesh::test::Run(kCli + " surface " + Quote((dir / "two.pqr").string()) + " " + Quote(out) +
+                           " --type ses --grid 0.3 --no-remesh --quiet --json " + Quote(json));
   ASSERT_EQ(ok.exitCode, 0) << ok.err;
   const nlohmann::json j = nlohmann::json::parse(molremesh::test::ReadFile(json));
-  EXPECT_EQ(j["atoms"], 2);
+  EXPECT_TRUE(ok.out.empty()) << ok.out;
+  EXPECT_TRUE(ok.err.empty()) << ok.err;
+  EXPECT_EQ(j["structure"]["atoms"], 2);
   EXPECT_EQ(j["surface"]["type"], "ses");
-  EXPECT_EQ(j["quality"]["boundary_edges"], 0);
-  EXPECT_EQ(j["quality"]["self_intersecting_pairs"], 0);
+  EXPECT_EQ(j["output"]["boundary_edges"], 0);
+  EXPECT_EQ(j["output"]["self_intersecting_pairs"], 0);
+  EXPECT_TRUE(j["verdict"]["valid"].get<bool>());
+  EXPECT_FALSE(j.contains("stages"));
   EXPECT_TRUE(std::filesystem::exists(out));
+
+  // By default the pipeline runs, and one summary line on stderr says so (nothing on stdout).
+  const std::string remeshed = (dir / "two_remeshed.ply").string();
+  const auto one = molremesh::test::Run(kCli + " surface " + Quote((dir / "two.pqr").string()) + " " +
+                                        Quote(remeshed) + " --grid 0.3 --json " + Quote(json));
+  ASSERT_EQ(one.exitCode, 0) << one.err;
+  EXPECT_TRUE(one.out.empty()) << one.out;
+  EXPECT_EQ(std::count(one.err.begin(), one.err.end(), '\n'), 1) << one.err;
+  EXPECT_EQ(one.err.rfind("molremesh: ", 0), 0u) << one.err;
+  EXPECT_NE(one.err.find(": 2 atoms, ses surface "), std::string::npos) << one.err;
+  const nlohmann::json r = nlohmann::json::parse(molremesh::test::ReadFile(json));
+  EXPECT_EQ(r["structure"]["atoms"], 2);
+  ASSERT_FALSE(r["stages"].empty());
+  EXPECT_EQ(r["stages"].front()["name"], "clean");
+  EXPECT_EQ(r["stages"].back()["name"], "polish");
+  EXPECT_EQ(r["input"]["faces"], r["surface"]["faces"]);
+  EXPECT_TRUE(r["verdict"]["valid"].get<bool>());
+  EXPECT_GE(r["output"]["angle_min_deg"].get<double>(), 30.0);
+  const auto verbose = molremesh::test::Run(kCli + " surface " + Quote((dir / "two.pqr").string()) + " " +
+                                            Quote(remeshed) + " --grid 0.3 --verbose");
+  ASSERT_EQ(verbose.exitCode, 0) << verbose.err;
+  EXPECT_NE(verbose.out.find("Remeshed "), std::string::npos) << verbose.out;
+  EXPECT_NE(verbose.err.find("molremesh: stage polish"), std::string::npos) << verbose.err;
+  // An unknown output format is a command-line mistake, found before any work.
+  const auto format = molremesh::test::Run(kCli + " surface " + Quote((dir / "two.pqr").string()) + " " +
+                                           Quote((dir / "two.xyz").string()));
+  EXPECT_EQ(format.exitCode, 1);
+  EXPECT_EQ(format.err, "molremesh: error: cannot write '" + (dir / "two.xyz").string() +
+                            "': unknown format (use .ply, .off, .obj or .stl)\n");
 
   std::ofstream(dir / "bad.pqr") << "ATOM 1 C ALA A 1 0.0 nan 0.0 0.0 1.8\n";
   const auto bad = molremesh::test::Run(kCli + " surface " + Quote((dir / "bad.pqr").string()) + " " +
@@ -271,11 +306,12 @@ TEST(MolecularSurfaceCliShared, RemeshedUbiquitinMeetsThePipelineBounds) {
   const std::string out = (dir / "1ubq.ply").string(), json = (dir / "1ubq.json").string();
   const auto r =
       molremesh::test::Run(kCli + " surface " + Quote(molremesh::test::SharedStructure("1UBQ.pqr")) + " " +
-                           Quote(out) + " --remesh --quiet --json " + Quote(json));
+                           Quote(out) + " --quiet --json " + Quote(json));
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(molremesh::test::ReadFile(json));
-  const nlohmann::json& q = j["remesh"]["output"];
-  EXPECT_TRUE(j["remesh"]["verdict"]["valid"].get<bool>());
+  const nlohmann::json& q = j["output"];
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  EXPECT_TRUE(j["verdict"]["valid"].get<bool>());
   EXPECT_GE(q["angle_min_deg"].get<double>(), 30.0);
   EXPECT_LE(q["angle_max_deg"].get<double>(), 120.0);
   EXPECT_EQ(q["self_intersecting_pairs"], 0);
