@@ -53,7 +53,11 @@ cmake -S "$src/PyMeshLab" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release \
   -DMESHLAB_ALLOW_OPTIONAL_EXTERNAL_LIBRARIES=OFF \
   -DPYTHON_EXECUTABLE="$python" -DCMAKE_INSTALL_PREFIX="$prefix"
 cmake --build "$build" --target pmeshlab io_base -- -j"$jobs"
-cmake --install "$build"
+# Only what was built: the whole tree's install also wants meshlab-common-gui, which PyMeshLab does
+# not use.
+for dir in src/meshlab/src/common src/meshlab/src/meshlabplugins/io_base src/pymeshlab; do
+  cmake --install "$build/$dir"
+done
 
 PYTHONPATH="$cache/python" "$python" -c 'import pymeshlab; pymeshlab.MeshSet()'
 echo "$tar_id" >"$stamp"
