@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # Installs every Debian package molremesh needs to build, test and benchmark (Debian bookworm).
 # Safe to run again: apt skips what is already there. Needs root (or sudo).
-# usage: install_deps.sh [--benchmarks] [--pictures] [--unseen]
+# usage: install_deps.sh [--benchmarks] [--pictures] [--unseen] [--pymeshlab]
 #   --benchmarks adds CGAL, the benchmark-only baseline;
 #   --unseen adds EDTSurf and PyMOL, the surface generators of benchmarks/unseen_inputs.py;
 #   --pictures adds ImageMagick and xdotool, for scripts/make_pictures.sh (README screenshots of the
-#              MeshLab GUI).
+#              MeshLab GUI);
+#   --pymeshlab adds what scripts/build_pymeshlab.sh needs to build PyMeshLab 2023.12 from the vendored
+#               sources (pybind11, Python headers, numpy, Qt SVG).
 set -euo pipefail
 
 packages=(
@@ -25,7 +27,8 @@ for option in "$@"; do
   --benchmarks) packages+=(libcgal-dev) ;;
   --pictures) packages+=(imagemagick xdotool) ;;
   --unseen) packages+=(edtsurf python3-pymol) ;;
-  *) echo "install_deps: unknown option '$option' (use --benchmarks, --pictures, --unseen)" >&2; exit 1 ;;
+  --pymeshlab) packages+=(pybind11-dev python3-dev python3-numpy libqt5svg5-dev) ;;
+  *) echo "install_deps: unknown option '$option' (use --benchmarks, --pictures, --unseen, --pymeshlab)" >&2; exit 1 ;;
   esac
 done
 

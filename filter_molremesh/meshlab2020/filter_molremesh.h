@@ -1,7 +1,9 @@
-// MeshLab 2020.09 filter plugin of molremesh.
+// MeshLab 2020.09 filter plugin of molremesh (MeshFilterInterface, Debian's MeshLab and
+// meshlabserver).
 //
-// The plugin only translates MeshLab parameters into vcg_ext Params, checks the input before
-// anything is changed, calls vcg_ext and logs the result. No geometry lives here.
+// A thin adapter: the filters, their parameters and runs are described once in
+// ../filter_catalog.h and ../filter_runs.h; this class turns them into MeshLab 2020.09's
+// RichParameters, layers and log. No geometry lives here.
 #pragma once
 
 #include <common/interfaces.h>
@@ -9,8 +11,8 @@
 #include <string>
 #include <vector>
 
-namespace molremesh {
-struct PipelineResult;
+namespace molremesh::filters {
+struct RunLog;
 }
 
 class FilterMolRemeshPlugin : public QObject, public MeshFilterInterface {
@@ -51,15 +53,13 @@ private:
   bool qualityReport(MeshModel& mm, const RichParameterList& parameters);
   bool colorBadElements(MeshModel& mm, const RichParameterList& parameters);
   bool randomSegmentation(MeshModel& mm, const RichParameterList& parameters);
-  /// Runs pipeline stages on a double-precision copy of the layer and, only when every stage
+  /// Runs a stage filter on a double-precision copy of the layer and, only when every stage
   /// succeeded, puts the result into a new layer "<name> <layerSuffix>" (parameter newLayer on) or
   /// into the layer itself: a failure leaves the document exactly as it was.
-  bool runStages(MeshDocument& md, MeshModel& mm, const std::vector<int>& stages,
-                 const RichParameterList& parameters, vcg::CallBackPos* cb, const char* layerSuffix);
-  /// The stages' summaries and the quality tables of a run, as rich text in MeshLab's GUI.
-  void logRun(const molremesh::PipelineResult& result);
-  /// A plain-text block: one <pre> entry in MeshLab's GUI, one entry per line elsewhere.
-  void logText(const std::string& text);
+  bool runStages(MeshDocument& md, MeshModel& mm, FilterIDType id, const RichParameterList& parameters,
+                 vcg::CallBackPos* cb);
+  /// The log channels of a run.
+  molremesh::filters::RunLog runLog();
   /// Whether the log is shown as rich text (MeshLab's GUI), not printed (meshlabserver).
   static bool RichLog();
   /// Sets errorMessage (and logs it, so meshlabserver users see the reason too); returns false.
