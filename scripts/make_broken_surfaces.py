@@ -16,15 +16,15 @@ Needs Debian's python3-pymol and python3-skimage (the system interpreter, /usr/b
 """
 
 import argparse
-import gzip
 import os
-import shutil
 import subprocess
 import sys
 import time
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 STRUCTURES = os.path.normpath(os.path.join(REPO, "..", "shared", "data", "structures"))
+sys.path.insert(0, os.path.join(REPO, "benchmarks"))
+from unseen_inputs import structure_file  # noqa: E402  (the PDB of a shared structure, gunzipped)
 
 # name -> (structure, generator, settings). pymol: surface_quality, surface_cavity_mode, file type
 # of the export; gaussian: grid spacing (A), decay (the d of exp(-d (|x - c|^2 / r^2 - 1))), level.
@@ -73,18 +73,6 @@ cmd.save(sys.argv[2])
 """
 
 RADII = {"C": 1.7, "N": 1.55, "O": 1.52, "S": 1.8, "P": 1.8, "H": 1.1}
-
-
-def structure_file(name, work):
-    """The PDB file of a shared structure (unzipped into work when it is gzipped)."""
-    plain = os.path.join(STRUCTURES, name + ".pdb")
-    if os.path.exists(plain):
-        return plain
-    unzipped = os.path.join(work, name + ".pdb")
-    if not os.path.exists(unzipped):
-        with gzip.open(plain + ".gz", "rb") as src, open(unzipped, "wb") as dst:
-            shutil.copyfileobj(src, dst)
-    return unzipped
 
 
 def heavy_atoms(pdb, select=None):

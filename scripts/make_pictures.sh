@@ -247,7 +247,7 @@ for mesh in "${meshes[@]}"; do
   [ -f "$input" ] || { echo "make_pictures: $input not found" >&2; exit 1; }
   remeshed=$work/${mesh}_remeshed_raw.ply
   echo "make_pictures: molremesh remesh $mesh.ply (stages: ${stages:-all})"
-  "$cli" remesh --quiet "$input" "$remeshed" ${stages:+--stages "$stages"} >"$work/$mesh.remesh.txt"
+  "$cli" remesh --verbose "$input" "$remeshed" ${stages:+--stages "$stages"} >"$work/$mesh.remesh.txt"
   for state in input remeshed; do
     source_ply=$input
     [ "$state" = remeshed ] && source_ply=$remeshed
