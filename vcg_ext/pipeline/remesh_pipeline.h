@@ -621,6 +621,9 @@ private:
     }
     const double meanEdge = MeanEdgeLength(run.m);
     if (std::fabs(meanEdge - L) > params.cvtSkipLengthTolerance * L) return {};
+    // Only a valid surface counts: CVT's own checks refuse a non-manifold or open one.
+    const QualityReport shape = MeshQuality<MeshType>::Compute(run.m, NoIntersections(params.threads));
+    if (!shape.isTwoManifold() || shape.boundaryEdges != 0 || shape.degenerateFaces != 0) return {};
     std::ostringstream s;
     s << "the mesh is a remesh at L already (angles " << lo << " .. " << hi << " degrees, mean edge "
       << meanEdge / L << " L)";
