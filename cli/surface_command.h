@@ -48,6 +48,10 @@ public:
     app_->add_option("--probe", surface_.probeRadius, "Probe radius (Å) of ses and sas")
         ->capture_default_str()
         ->check(CLI::Range(0.0, 10.0));
+    app_->add_option("--min-feature", minFeature_,
+                     "ses: solid features thinner than this radius (Å), necks and cusps below the grid's "
+                     "resolution, are opened away (default: half the grid spacing; 0 keeps them)")
+        ->check(CLI::Range(0.0, 5.0));
     app_->add_option("--grid", surface_.gridSpacing, "Grid spacing (Å): voxel edge of the level set")
         ->capture_default_str()
         ->check(CLI::Range(0.05, 5.0));
@@ -114,6 +118,7 @@ public:
         " HETATM, " + std::to_string(atoms.skippedAltLocs) + " alternate-location atoms)");
 
     surface_.keepCavities = !outerOnly_;
+    surface_.minFeatureRadius = minFeature_ < 0 ? 0.5 * surface_.gridSpacing : minFeature_;
     surface_.threads = threads_;
     MeshD mesh;
     const MolecularSurfaceResult surface = MolecularSurface<MeshD>::Build(atoms.atoms, mesh, surface_);
@@ -145,6 +150,7 @@ private:
     j["surface"] = {{"type", ToString(surface_.kind)},
                     {"probe", surface_.probeRadius},
                     {"grid", surface_.gridSpacing},
+                    {"min_feature", surface_.minFeatureRadius},
                     {"faces", s.faces},
                     {"components", s.components},
                     {"cavities", s.cavities},
@@ -218,6 +224,7 @@ private:
   OutputRequest request_;
   bool outerOnly_ = false, noHetatm_ = false, noRemesh_ = false;
   double targetLength_ = 1.0;
+  double minFeature_ = -1; ///< < 0: half the grid spacing
   std::uint64_t seed_ = 1;
   int threads_ = 0;
 };

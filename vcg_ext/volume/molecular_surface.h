@@ -13,7 +13,9 @@
 // field from its zero isosurface (points projected onto the exact spheres) with an inner band wider
 // than the probe, so values inside are true distances to the SAS boundary (the minimum of sphere
 // distances underestimates the depth where balls overlap); 3. extract the isosurface at -probe and
-// project its vertices onto that level of the triquadratically interpolated field. VdW and SAS
+// project its vertices onto that level of the triquadratically interpolated field; with
+// minFeatureRadius > 0 the body is first opened by that ball (eroded to -probe - rho, dilated by
+// rho through a second distance field), which drops necks and cusps thinner than rho. VdW and SAS
 // extract step 1's field at 0; the Gaussian sums the atoms' terms over the voxels where each is
 // above 1e-3 of the level; both project the vertices onto their exact field (atom_fields.h).
 // Every closed component of the extraction is kept: an inner one bounds a cavity (its normals
@@ -223,6 +225,49 @@ inline openvdb::FloatGrid::Ptr RebuiltDistance(const openvdb::FloatGrid& sas, co
   return distance;
 }
 
+/// The signed distance (negative inside) to the isosurface {field == level}, within bandVoxels
+/// of it, the sign from the field's own membership test; each call keeps to distances of a few
+/// voxels, where OpenVDB's distance field is exact (deeper in it falls behind).
+inline openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& field, double level, double h,
+                                                     float bandVoxels, int threads) {
+  VdbPolygons polygons;
+  openvdb::tools::volumeToMesh(field, polygons.points, polygons.triangles, polygons.quads, level, 0.0);
+  const QuadraticGridField smooth(field); // the mesher's vertices sit off the level by up to h^2/8r
+  ParallelFor(polygons.points.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t i = begin; i < end; ++i) {
+      openvdb::Vec3s& q = polygons.points[i];
+      const Point y = ProjectToLevel(Point(q[0], q[1], q[2]), smooth, level, h);
+      q = openvdb::Vec3s(float(y[0]), float(y[1]), float(y[2]));
+    }
+  });
+  openvdb::FloatGrid::Ptr distance = UnsignedDistanceGrid(polygons, h, bandVoxels);
+  polygons = VdbPolygons();
+  const float at = float(level);
+  openvdb::tools::foreach (distance->beginValueOn(), [&](const openvdb::FloatGrid::ValueOnIter& it) {
+    if (field.tree().getValue(it.getCoord()) < at) it.setValue(-std::fabs(*it));
+  });
+  distance->setGridClass(openvdb::GRID_LEVEL_SET);
+  openvdb::tools::signedFloodFill(distance->tree());
+  return distance;
+}
+
+/// The opening by a ball of radius rho of the region {field < level}, as a signed distance grid
+/// whose zero isosurface bounds it: the region eroded by rho (its signed distance below -rho), then
+/// dilated by rho (the signed distance to the eroded region, below rho).
+inline openvdb::FloatGrid::Ptr OpenedRegion(const openvdb::FloatGrid& field, double level, double rho,
+                                            double h, int threads) {
+  const float band = float(rho / h) + 3.0f;
+  openvdb::FloatGrid::Ptr region = SignedDistanceToLevel(field, level, h, band, threads);
+  openvdb::FloatGrid::Ptr opened = SignedDistanceToLevel(*region, -rho, h, band, threads);
+  region.reset();
+  const float shift = float(rho);
+  openvdb::tools::foreach (opened->beginValueOn(),
+                           [shift](const openvdb::FloatGrid::ValueOnIter& it) { it.setValue(*it - shift); });
+  opened->tree().root().setBackground(opened->background() - shift, true);
+  openvdb::tools::signedFloodFill(opened->tree());
+  return opened;
+}
+
 } // namespace surface_detail
 
 /// Builds a molecular surface of a set of atoms (see the top of this file).
@@ -231,11 +276,15 @@ class MolecularSurface {
 public:
   struct Params {
     MolecularSurfaceKind kind = MolecularSurfaceKind::Ses;
-    double probeRadius = 1.4;    ///< Å, a water molecule (SES, SAS)
-    double gridSpacing = 0.4;    ///< Å, voxel edge: area within 0.5 % of a sphere's, see the README
-    double gaussianDecay = 0.9;  ///< d of the Gaussian surface (TMSmesh's default)
-    double gaussianLevel = 1.0;  ///< isolevel of the Gaussian surface (TMSmesh's default)
-    bool keepCavities = true;    ///< false: only the components enclosing positive volume
+    double probeRadius = 1.4;   ///< Å, a water molecule (SES, SAS)
+    double gridSpacing = 0.4;   ///< Å, voxel edge: area within 0.5 % of a sphere's, see the README
+    double gaussianDecay = 0.9; ///< d of the Gaussian surface (TMSmesh's default)
+    double gaussianLevel = 1.0; ///< isolevel of the Gaussian surface (TMSmesh's default)
+    bool keepCavities = true;   ///< false: only the components enclosing positive volume
+    /// Å, SES only: the body opened by a ball of this radius, which removes the necks and cusps
+    /// thinner than it (the SES's near-singular spots, below the grid's resolution at half a voxel,
+    /// where no remesh at a target length of 2.5 voxels can keep its angles); 0: the raw level set.
+    double minFeatureRadius = 0.2;
     float halfWidthVoxels = 3.0; ///< narrow band on each side of the surface, voxels
     double memoryLimitMB = 0;    ///< 0: the memory available at the start; < 0: no check
     int threads = 0; ///< vertex projection threads, 0 = all cores (OpenVDB uses TBB's); output independent
@@ -345,6 +394,18 @@ private:
     }
     FloatGrid::Ptr exact = surface_detail::RebuiltDistance(*grid, balls, h, InnerBandVoxels(p), p.threads);
     grid.reset();
+    if (p.minFeatureRadius > 0) {
+      FloatGrid::Ptr opened =
+          surface_detail::OpenedRegion(*exact, -p.probeRadius, p.minFeatureRadius, h, p.threads);
+      LevelSetToMesh(*opened, m, 0.0);
+      ProjectVerticesToLevel(m, QuadraticGridField(*opened), 0.0, h, p.threads);
+      opened.reset();
+      // Away from the removed features the opening is the SES itself: a last short move onto it
+      // takes out the two re-distancings' inward bias (a few hundredths of an Å) and stays within
+      // a quarter voxel of the opening where it differs.
+      ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, 0.25 * h, p.threads);
+      return;
+    }
     LevelSetToMesh(*exact, m, -p.probeRadius);
     ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, h, p.threads);
   }
