@@ -240,6 +240,8 @@ TEST_F(MeshReaders, OffCountsSizesAndCoordinatesAreValidated) {
   ExpectRefused(Write("negcount.off", "OFF\n-1 1 0\n" + kSquare), "bad OFF counts");
   ExpectRefused(Write("many.off", "OFF\n4 1000000000 0\n" + kSquare),
                 "declares 4 vertices and 1000000000 faces");
+  // A face count near 2^64 (found by fuzzing): the needed size is said, not cast out of range.
+  ExpectRefused(Write("huge.off", "OFF\n4 02953255926290448384 0.0 2"), "more than 10^18 bytes");
   ExpectRefused(Write("small.off", "OFF\n4 1 0\n" + kSquare + "2 0 1      \n"), "2 corners");
   ExpectRefused(Write("big.off", "OFF\n4 1 0\n" + kSquare + "1000 0 1 2\n"), "1000 corners");
   ExpectRefused(Write("xyz.off", "OFF\n4 1 0\n0 0 0\nx y z\n1 1 0\n0 1 0\n3 0 1 2\n"), "bad coordinate 'x'");

@@ -113,8 +113,8 @@ public:
         std::uint64_t(faces) > kMaxElementCount) {
       const std::size_t headerBytes = bytes.size() - lines.BytesLeft();
       error = "its header declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
-              " faces, at least " + std::to_string((unsigned long long)(needed + 1 + headerBytes)) +
-              " bytes, but the file has " + std::to_string(bytes.size()) + " (truncated or corrupt)";
+              " faces, at least " + ByteCountText(needed + 1 + headerBytes) + " bytes, but the file has " +
+              std::to_string(bytes.size()) + " (truncated or corrupt)";
       return false;
     }
     return ReadVertices(lines, flags, std::size_t(vertices), raw, error) &&

@@ -121,6 +121,13 @@ inline bool AppendFanTriangles(const std::vector<int>& corners, std::vector<std:
   return true;
 }
 
+/// A non-negative byte count for a message, "more than 10^18" beyond what an integer holds (a
+/// header's declared counts can be as large as 9.2e18 each; casting that product is undefined).
+inline std::string ByteCountText(long double bytes) {
+  if (!(bytes < 1e18L)) return "more than 10^18";
+  return std::to_string((unsigned long long)(bytes < 0 ? 0 : bytes));
+}
+
 /// "a face has N corners" message with the limits.
 inline std::string PolygonSizeMessage(std::size_t corners) {
   return "a face has " + std::to_string(corners) + " corners (3 to " + std::to_string(kMaxPolygonCorners) +
