@@ -12,6 +12,7 @@
 #include <vcg_ext/volume/molecular_surface.h>
 
 #include "remeshing_test_meshes.h"
+#include "surface_expectations.h"
 #include "test_helpers.h"
 
 #include <nlohmann/json.hpp>
@@ -25,6 +26,7 @@ using namespace molremesh;
 
 namespace {
 
+using molremesh::test::ExpectValidClosedSurface;
 using Surface = MolecularSurface<MeshD>;
 using Kind = MolecularSurfaceKind;
 
@@ -39,18 +41,6 @@ Surface::Params ParamsOf(Kind kind) {
   Surface::Params p;
   p.kind = kind;
   return p;
-}
-
-void ExpectValidClosedSurface(const MeshD& m) {
-  const QualityReport q = MeshQuality<MeshD>::Compute(m);
-  EXPECT_GT(q.faces, 0u);
-  EXPECT_EQ(q.boundaryEdges, 0u);
-  EXPECT_EQ(q.nonManifoldEdges, 0u);
-  EXPECT_EQ(q.nonManifoldVertices, 0u);
-  EXPECT_EQ(q.degenerateFaces, 0u);
-  EXPECT_EQ(q.selfIntersectingPairs, 0u);
-  EXPECT_EQ(q.adjacentOverlapPairs, 0u);
-  EXPECT_GT(q.volume, 0.0); // outward
 }
 
 struct Union2 {

@@ -11,6 +11,7 @@
 #include <tbb/global_control.h>
 
 #include "remeshing_test_meshes.h"
+#include "surface_expectations.h"
 #include "test_helpers.h"
 
 #include <algorithm>
@@ -24,16 +25,6 @@ namespace {
 
 QualityReport Measure(const MeshD& m) {
   return MeshQuality<MeshD>::Compute(m);
-}
-
-void ExpectValidClosedSurface(const QualityReport& q) {
-  EXPECT_GT(q.faces, 0u);
-  EXPECT_EQ(q.boundaryEdges, 0u);
-  EXPECT_EQ(q.nonManifoldEdges, 0u);
-  EXPECT_EQ(q.nonManifoldVertices, 0u);
-  EXPECT_EQ(q.degenerateFaces, 0u);
-  EXPECT_EQ(q.selfIntersectingPairs, 0u);
-  EXPECT_EQ(q.adjacentOverlapPairs, 0u);
 }
 
 } // namespace

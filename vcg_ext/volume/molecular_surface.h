@@ -199,44 +199,22 @@ inline openvdb::FloatGrid::Ptr NegatedGaussianDensity(const std::vector<Atom>& a
   return grid;
 }
 
-/// The signed distance to the SAS with true values inside (down to inBand voxels): the zero
-/// isosurface of the rasterized union, its points projected onto the exact spheres, its unsigned
-/// distance field (both sides, inBand voxels), signed by the rasterized union (whose membership is
-/// exact). OpenVDB's levelSetRebuild signs by flood fill from outside instead and drops the band
-/// around inner surfaces, which would fill every cavity.
-inline openvdb::FloatGrid::Ptr RebuiltDistance(const openvdb::FloatGrid& sas, const BallUnionDistance& balls,
-                                               double h, float inBand, int threads) {
+/// The signed distance (negative inside) to the isosurface {grid == level}, within bandVoxels of
+/// it: the isosurface's polygons, their points projected onto the level of `exact` (the field the
+/// grid samples: the balls themselves, or the grid's own quadratic interpolation, since the
+/// mesher's vertices sit off the level by up to h^2/8r), their unsigned distance field, signed by
+/// the grid's own membership test (exact, unlike OpenVDB's levelSetRebuild, which signs by flood
+/// fill from outside and drops the band around inner surfaces: every cavity would be filled).
+/// Each call keeps to distances of a few voxels, where OpenVDB's distance field is exact.
+template <class ExactField>
+openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& grid, double level, const ExactField& exact,
+                                              double h, float bandVoxels, int threads) {
   VdbPolygons polygons;
-  openvdb::tools::volumeToMesh(sas, polygons.points, polygons.triangles, polygons.quads, 0.0, 0.0);
+  openvdb::tools::volumeToMesh(grid, polygons.points, polygons.triangles, polygons.quads, level, 0.0);
   ParallelFor(polygons.points.size(), threads, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t i = begin; i < end; ++i) {
       openvdb::Vec3s& q = polygons.points[i];
-      const Point y = ProjectToLevel(Point(q[0], q[1], q[2]), balls, 0.0, h);
-      q = openvdb::Vec3s(float(y[0]), float(y[1]), float(y[2]));
-    }
-  });
-  openvdb::FloatGrid::Ptr distance = UnsignedDistanceGrid(polygons, h, inBand);
-  polygons = VdbPolygons();
-  openvdb::tools::foreach (distance->beginValueOn(), [&sas](const openvdb::FloatGrid::ValueOnIter& it) {
-    if (sas.tree().getValue(it.getCoord()) < 0) it.setValue(-std::fabs(*it));
-  });
-  distance->setGridClass(openvdb::GRID_LEVEL_SET);
-  openvdb::tools::signedFloodFill(distance->tree());
-  return distance;
-}
-
-/// The signed distance (negative inside) to the isosurface {field == level}, within bandVoxels
-/// of it, the sign from the field's own membership test; each call keeps to distances of a few
-/// voxels, where OpenVDB's distance field is exact (deeper in it falls behind).
-inline openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& field, double level, double h,
-                                                     float bandVoxels, int threads) {
-  VdbPolygons polygons;
-  openvdb::tools::volumeToMesh(field, polygons.points, polygons.triangles, polygons.quads, level, 0.0);
-  const QuadraticGridField smooth(field); // the mesher's vertices sit off the level by up to h^2/8r
-  ParallelFor(polygons.points.size(), threads, [&](std::size_t begin, std::size_t end, int) {
-    for (std::size_t i = begin; i < end; ++i) {
-      openvdb::Vec3s& q = polygons.points[i];
-      const Point y = ProjectToLevel(Point(q[0], q[1], q[2]), smooth, level, h);
+      const Point y = ProjectToLevel(Point(q[0], q[1], q[2]), exact, level, h);
       q = openvdb::Vec3s(float(y[0]), float(y[1]), float(y[2]));
     }
   });
@@ -244,7 +222,7 @@ inline openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& f
   polygons = VdbPolygons();
   const float at = float(level);
   openvdb::tools::foreach (distance->beginValueOn(), [&](const openvdb::FloatGrid::ValueOnIter& it) {
-    if (field.tree().getValue(it.getCoord()) < at) it.setValue(-std::fabs(*it));
+    if (grid.tree().getValue(it.getCoord()) < at) it.setValue(-std::fabs(*it));
   });
   distance->setGridClass(openvdb::GRID_LEVEL_SET);
   openvdb::tools::signedFloodFill(distance->tree());
@@ -257,8 +235,9 @@ inline openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& f
 inline openvdb::FloatGrid::Ptr OpenedRegion(const openvdb::FloatGrid& field, double level, double rho,
                                             double h, int threads) {
   const float band = float(rho / h) + 3.0f;
-  openvdb::FloatGrid::Ptr region = SignedDistanceToLevel(field, level, h, band, threads);
-  openvdb::FloatGrid::Ptr opened = SignedDistanceToLevel(*region, -rho, h, band, threads);
+  openvdb::FloatGrid::Ptr region = SignedDistanceToLevel(field, level, QuadraticGridField(field), h, band, threads);
+  openvdb::FloatGrid::Ptr opened =
+      SignedDistanceToLevel(*region, -rho, QuadraticGridField(*region), h, band, threads);
   region.reset();
   const float shift = float(rho);
   openvdb::tools::foreach (opened->beginValueOn(),
@@ -392,7 +371,9 @@ private:
       ProjectVerticesToLevel(m, balls, 0.0, h, p.threads);
       return;
     }
-    FloatGrid::Ptr exact = surface_detail::RebuiltDistance(*grid, balls, h, InnerBandVoxels(p), p.threads);
+    // The signed distance to the SAS, with true values inside down to the probe radius.
+    FloatGrid::Ptr exact =
+        surface_detail::SignedDistanceToLevel(*grid, 0.0, balls, h, InnerBandVoxels(p), p.threads);
     grid.reset();
     if (p.minFeatureRadius > 0) {
       FloatGrid::Ptr opened =
