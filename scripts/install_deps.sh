@@ -2,7 +2,7 @@
 # Installs every Debian package molremesh needs to build, test and benchmark (Debian bookworm).
 # Safe to run again: apt skips what is already there. Needs root (or sudo).
 # usage: install_deps.sh [--benchmarks] [--pictures] [--unseen] [--pymeshlab]
-#   --benchmarks adds CGAL, the benchmark-only baseline;
+#   --benchmarks adds CGAL, the benchmark-only baseline, and matplotlib for the scaling plot;
 #   --unseen adds EDTSurf and PyMOL, the surface generators of benchmarks/unseen_inputs.py;
 #   --pictures adds ImageMagick and xdotool, for scripts/make_pictures.sh (README screenshots of the
 #              MeshLab GUI);
@@ -25,7 +25,7 @@ packages=(
 )
 for option in "$@"; do
   case "$option" in
-  --benchmarks) packages+=(libcgal-dev) ;;
+  --benchmarks) packages+=(libcgal-dev python3-matplotlib) ;;
   --pictures) packages+=(imagemagick xdotool) ;;
   --unseen) packages+=(edtsurf python3-pymol) ;;
   --pymeshlab) packages+=(pybind11-dev python3-dev python3-numpy libqt5svg5-dev) ;;
