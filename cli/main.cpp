@@ -314,6 +314,8 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.seed = options.seed;
   params.threads = options.threads;
   params.intersectionsEachStage = options.checkEachStage;
+  // The default and --quiet outputs show the input and the output only: no per-stage reports.
+  params.measureIntermediateStages = options.verbose || !options.jsonPath.empty() || options.checkEachStage;
   // On failure nothing is written, so no copy of the input (as large as the input) is kept.
   params.restoreOnFailure = false;
   params.cvt.iterations = options.cvtIterations;

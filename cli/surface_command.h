@@ -212,6 +212,7 @@ private:
     params.seed = seed_;
     params.threads = threads_;
     params.restoreOnFailure = false;
+    params.measureIntermediateStages = request_.verbose || !request_.jsonPath.empty();
     params.memoryLimitMB = surface_.memoryLimitMB;
     const PipelineResult result = Pipeline::Do(mesh, params, [this](const std::string& line) { Log(line); });
     return SaveRemeshed(mesh, request_, result, figures, what);

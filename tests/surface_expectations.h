@@ -19,7 +19,8 @@ inline void ExpectValidClosedSurface(const QualityReport& q) {
   EXPECT_GT(q.volume, 0.0); // outward
 }
 
-template <class MeshType> void ExpectValidClosedSurface(const MeshType& m) {
+template <class MeshType>
+void ExpectValidClosedSurface(const MeshType& m) {
   ExpectValidClosedSurface(MeshQuality<MeshType>::Compute(m));
 }
 

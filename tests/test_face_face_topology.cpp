@@ -1,10 +1,12 @@
 // UpdateFaceFaceTopology against vcglib's UpdateTopology::FaceFace: the same adjacency on manifold
 // meshes (real ones included), borders pointing at themselves, a non-manifold edge as one ring
-// through all its faces, deleted faces skipped, whatever the thread count.
+// through all its faces, deleted faces skipped, whatever the thread count. ElementCapacity: moving
+// the element vectors keeps every reference and adjacency.
 #include <gtest/gtest.h>
 
 #include <vcg_ext/topology/face_face_topology.h>
 #include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/core/element_capacity.h>
 #include <vcg_ext/core/mesh_types.h>
 
 #include <array>
@@ -121,4 +123,61 @@ TEST(FaceFaceTopology, AnyThreadCountGivesTheSameAdjacencyOnALargeMesh) {
     EXPECT_EQ(molremesh::UpdateFaceFaceTopology(m, threads), 0u) << threads << " threads";
     EXPECT_EQ(Links(m), expected) << threads << " threads";
   }
+}
+
+namespace {
+
+/// Every vertex's VF list as (face index, corner) pairs, and every face's corners as vertex indices.
+std::vector<std::vector<Side>> VertexFaceLists(MeshD& m) {
+  std::vector<std::vector<Side>> lists(m.vert.size());
+  for (std::size_t v = 0; v < m.vert.size(); ++v)
+    for (vcg::face::VFIterator<molremesh::FaceD> it(&m.vert[v]); !it.End(); ++it)
+      lists[v].emplace_back(vcg::tri::Index(m, it.F()), it.I());
+  return lists;
+}
+
+std::vector<std::array<std::size_t, 3>> Corners(const MeshD& m) {
+  std::vector<std::array<std::size_t, 3>> corners;
+  for (const auto& f : m.face)
+    corners.push_back(
+        {vcg::tri::Index(m, f.cV(0)), vcg::tri::Index(m, f.cV(1)), vcg::tri::Index(m, f.cV(2))});
+  return corners;
+}
+
+} // namespace
+
+TEST(ElementCapacity, ReallocatingTheVectorsKeepsEveryReferenceAndAdjacency) {
+  using Capacity = molremesh::ElementCapacity<MeshD>;
+  MeshD m;
+  molremesh::test::Icosphere(m, 3);
+  vcg::tri::UpdateTopology<MeshD>::FaceFace(m);
+  vcg::tri::UpdateTopology<MeshD>::VertexFace(m);
+  const auto links = Links(m);
+  const auto lists = VertexFaceLists(m);
+  const auto corners = Corners(m);
+  const std::size_t faces = m.face.size(), vertices = m.vert.size();
+
+  Capacity::Updater<MeshD::FacePointer> fu;
+  MeshD::FacePointer held = &m.face[7];
+  Capacity::ReserveFaces(m, 3 * faces, fu);
+  ASSERT_TRUE(fu.NeedUpdate()); // the vector moved
+  fu.Update(held);
+  Capacity::Updater<MeshD::VertexPointer> vu;
+  Capacity::ReserveVertices(m, 3 * vertices, vu);
+  EXPECT_EQ(m.face.capacity(), 3 * faces); // exactly what was asked, no doubling
+  EXPECT_EQ(m.vert.capacity(), 3 * vertices);
+  EXPECT_EQ(held, &m.face[7]);
+  EXPECT_EQ(Links(m), links);
+  EXPECT_EQ(VertexFaceLists(m), lists);
+  EXPECT_EQ(Corners(m), corners);
+
+  Capacity::ShrinkToFit(m);
+  EXPECT_EQ(m.face.capacity(), faces);
+  EXPECT_EQ(m.vert.capacity(), vertices);
+  EXPECT_EQ(Links(m), links);
+  EXPECT_EQ(VertexFaceLists(m), lists);
+  EXPECT_EQ(Corners(m), corners);
+
+  Capacity::ReserveFaces(m, faces, fu); // enough room already: nothing moves
+  EXPECT_FALSE(fu.NeedUpdate());
 }

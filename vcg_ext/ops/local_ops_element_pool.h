@@ -8,11 +8,11 @@ namespace molremesh {
 
 template <class MeshType>
 void LocalRemeshingOps<MeshType>::GrowPerElementArrays() {
-  foot_.resize(m_.vert.size(), -1);
-  batchIndex_.resize(m_.vert.size(), -1);
-  locked_.resize(m_.vert.size(), 0);
-  vertStamp_.resize(m_.vert.size(), 0);
-  faceStamp_.resize(m_.face.size(), 0);
+  ResizeWithSlack(foot_, m_.vert.size(), -1);
+  ResizeWithSlack(batchIndex_, m_.vert.size(), -1);
+  ResizeWithSlack(locked_, m_.vert.size(), std::uint8_t(0));
+  ResizeWithSlack(vertStamp_, m_.vert.size(), std::uint32_t(0));
+  ResizeWithSlack(faceStamp_, m_.face.size(), std::uint32_t(0));
   grid_.Resize(m_.face.size());
 }
 
@@ -21,6 +21,9 @@ void LocalRemeshingOps<MeshType>::EnsureFree(std::size_t nv, std::size_t nf, Fac
   if (freeVerts_.size() < nv) {
     const std::size_t grow = std::max<std::size_t>({nv, 64, m_.vert.size() / 8});
     const std::size_t first = m_.vert.size();
+    // Grown by an eighth, not doubled by std::vector: the pool is the whole mesh's vectors.
+    typename ElementCapacity<MeshType>::template Updater<VertexPointer> vu;
+    ElementCapacity<MeshType>::ReserveVertices(m_, first + grow, vu);
     vcg::tri::Allocator<MeshType>::AddVertices(m_, grow);
     for (std::size_t i = m_.vert.size(); i-- > first;) {
       vcg::tri::Allocator<MeshType>::DeleteVertex(m_, m_.vert[i]);
@@ -30,9 +33,10 @@ void LocalRemeshingOps<MeshType>::EnsureFree(std::size_t nv, std::size_t nf, Fac
   if (freeFaces_.size() < nf) {
     const std::size_t grow = std::max<std::size_t>({nf, 64, m_.face.size() / 8});
     const std::size_t first = m_.face.size();
-    typename vcg::tri::Allocator<MeshType>::template PointerUpdater<FacePointer> pu;
-    vcg::tri::Allocator<MeshType>::AddFaces(m_, grow, pu);
+    typename ElementCapacity<MeshType>::template Updater<FacePointer> pu;
+    ElementCapacity<MeshType>::ReserveFaces(m_, first + grow, pu);
     if (pu.NeedUpdate()) pu.Update(f);
+    vcg::tri::Allocator<MeshType>::AddFaces(m_, grow);
     for (std::size_t i = m_.face.size(); i-- > first;) {
       vcg::tri::Allocator<MeshType>::DeleteFace(m_, m_.face[i]);
       freeFaces_.push_back(i);

@@ -64,6 +64,8 @@
 #include <vcg_ext/spatial/face_hash_grid.h>
 #include <vcg_ext/geometry/triangle_intersection.h>
 #include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/core/element_capacity.h>
+#include <vcg_ext/core/vector_growth.h>
 #include <vcg_ext/core/parallel_for.h>
 #include <vcg_ext/surface/reference_surface.h>
 #include <vcg_ext/spatial/triangle_pair_scan.h>

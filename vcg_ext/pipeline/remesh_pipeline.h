@@ -31,6 +31,7 @@
 #include <vcg_ext/stages/cvt_initialization.h>
 #include <vcg_ext/core/input_check.h>
 #include <vcg_ext/stages/local_smoothing.h>
+#include <vcg_ext/core/element_capacity.h>
 #include <vcg_ext/pipeline/memory_budget.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/quality/output_verdict.h>
@@ -150,6 +151,11 @@ public:
     std::uint64_t seed = 1;       ///< seed of every random choice
     int threads = 0;              ///< worker threads; 0 = all cores (the output does not depend on it)
     bool measureEachStage = true; ///< quality report after each stage
+    /// With measureEachStage: false measures only the last stage (the output) and the stages whose
+    /// report costs nothing (the cleaning's own); the other records' `after` stay empty. A caller
+    /// that shows only the input and the output (the CLI without --verbose or --json) saves the
+    /// reports' time and their mesh captures.
+    bool measureIntermediateStages = true;
     /// Count self-intersecting pairs in every stage's report; otherwise only in the input's and the
     /// last stage's (every edit already refuses new intersections; the count is the slowest figure).
     bool intersectionsEachStage = true;
@@ -277,7 +283,8 @@ public:
       std::optional<QualityReport> cleanReport; // the cleaning's own report of its result
       // A stage that leaves the mesh as it found it (segmentation always, a local stage with
       // nothing to fix) reuses the previous report instead of measuring the same mesh again.
-      const bool mayReuseReport = params.measureEachStage && !run.result.stages.empty();
+      const bool mayReuseReport =
+          params.measureEachStage && params.measureIntermediateStages && !run.result.stages.empty();
       const GeometrySnapshot before = mayReuseReport ? GeometrySnapshot::Of(m) : GeometrySnapshot();
       // Segmentation walks face-face adjacency without building it (RAR may segment first); every
       // other stage builds the adjacency it needs on entry.
@@ -285,6 +292,9 @@ public:
       if (const std::string error = RunStage(run, stage, last, record.summary, cleanReport); !error.empty())
         return run.Fail(record, error);
       vcg::tri::Allocator<MeshType>::CompactEveryVector(m);
+      // A stage that grew the mesh leaves its vectors up to twice as large as they are: the
+      // stages after it would carry that room at their peaks.
+      ElementCapacity<MeshType>::ShrinkToFit(m);
       record.seconds = std::chrono::duration<double>(Clock::now() - stageStart).count();
       PendingReport report = MeasureStage(run, last, mayReuseReport, before, cleanReport);
       run.Say(std::string("stage ") + record.name + " done in " + std::to_string(record.seconds) + " s");
@@ -511,7 +521,7 @@ private:
       ResolveReports();
       if (result.stages.empty())
         result.targetEdgeLength = result.input.meanEdgeLength;
-      else if (params.measureEachStage)
+      else if (params.measureEachStage && stageReports.back().future.valid())
         result.targetEdgeLength = result.stages.back().after.meanEdgeLength;
       else
         result.targetEdgeLength =
@@ -695,6 +705,7 @@ private:
     PendingReport report;
     const Params& params = run.params;
     if (!params.measureEachStage) return report;
+    if (!last && !params.measureIntermediateStages && !cleanReport) return report;
     typename MeshQuality<MeshType>::Params stageQuality = run.qualityParams;
     stageQuality.computeSelfIntersections = params.intersectionsEachStage || last;
     const PendingReport& previous = run.result.stages.empty() ? run.inputReport : run.stageReports.back();

@@ -18,6 +18,7 @@
 
 #include <vcg_ext/core/float_box.h>
 #include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/core/vector_growth.h>
 
 #include <algorithm>
 #include <array>
@@ -61,7 +62,7 @@ public:
   double CellSize() const { return cell_; }
   /// Makes room for face indices below n (cheap to call often).
   void Resize(std::size_t n) {
-    if (faces_.size() < n) faces_.resize(n);
+    if (faces_.size() < n) ResizeWithSlack(faces_, n);
   }
   bool Contains(std::size_t f) const { return f < faces_.size() && faces_[f].in; }
   /// The stored (outward rounded) box of face f.

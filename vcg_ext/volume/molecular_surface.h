@@ -207,8 +207,9 @@ inline openvdb::FloatGrid::Ptr NegatedGaussianDensity(const std::vector<Atom>& a
 /// fill from outside and drops the band around inner surfaces: every cavity would be filled).
 /// Each call keeps to distances of a few voxels, where OpenVDB's distance field is exact.
 template <class ExactField>
-openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& grid, double level, const ExactField& exact,
-                                              double h, float bandVoxels, int threads) {
+openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& grid, double level,
+                                              const ExactField& exact, double h, float bandVoxels,
+                                              int threads) {
   VdbPolygons polygons;
   openvdb::tools::volumeToMesh(grid, polygons.points, polygons.triangles, polygons.quads, level, 0.0);
   ParallelFor(polygons.points.size(), threads, [&](std::size_t begin, std::size_t end, int) {
@@ -235,7 +236,8 @@ openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& grid, do
 inline openvdb::FloatGrid::Ptr OpenedRegion(const openvdb::FloatGrid& field, double level, double rho,
                                             double h, int threads) {
   const float band = float(rho / h) + 3.0f;
-  openvdb::FloatGrid::Ptr region = SignedDistanceToLevel(field, level, QuadraticGridField(field), h, band, threads);
+  openvdb::FloatGrid::Ptr region =
+      SignedDistanceToLevel(field, level, QuadraticGridField(field), h, band, threads);
   openvdb::FloatGrid::Ptr opened =
       SignedDistanceToLevel(*region, -rho, QuadraticGridField(*region), h, band, threads);
   region.reset();
