@@ -294,7 +294,7 @@ inline bool CheckCountsAgainstSize(const Header& header, std::size_t fileBytes, 
   // (- 1: an ascii file's last value needs no separator.)
   if (needed - 1 > (long double)fileBytes) {
     error = "its header declares " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
-            " faces, at least " + std::to_string((unsigned long long)needed) + " bytes, but the file has " +
+            " faces, at least " + ByteCountText(needed) + " bytes, but the file has " +
             std::to_string(fileBytes) + " (truncated or corrupt)";
     return false;
   }
