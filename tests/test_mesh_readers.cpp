@@ -152,6 +152,12 @@ TEST_F(MeshReaders, PlyCountsBeyondTheFileSizeAreRefusedBeforeAllocating) {
   std::string huge = BinaryPly({{0, 1, 2}});
   huge.replace(huge.find("element face 1"), 14, "element face 4294967296");
   ExpectRefused(Write("hugef.ply", huge), "more than supported");
+  // An element other than vertex and face with a count near 2^63 (found by fuzzing): the byte count
+  // it needs is said as text, never cast out of an integer's range.
+  std::string extra = BinaryPly({{0, 1, 2}});
+  extra.replace(extra.find("end_header"), 10,
+                "element extra 9223372036854775807\nproperty double a\nproperty double b\nend_header");
+  ExpectRefused(Write("hugeextra.ply", extra), "at least 10^18 bytes");
 }
 
 TEST_F(MeshReaders, PlyTruncatedAtAnyOffsetIsRefusedAndNeverReadShort) {
@@ -241,7 +247,7 @@ TEST_F(MeshReaders, OffCountsSizesAndCoordinatesAreValidated) {
   ExpectRefused(Write("many.off", "OFF\n4 1000000000 0\n" + kSquare),
                 "declares 4 vertices and 1000000000 faces");
   // A face count near 2^64 (found by fuzzing): the needed size is said, not cast out of range.
-  ExpectRefused(Write("huge.off", "OFF\n4 02953255926290448384 0.0 2"), "more than 10^18 bytes");
+  ExpectRefused(Write("huge.off", "OFF\n4 02953255926290448384 0.0 2"), "at least 10^18 bytes");
   ExpectRefused(Write("small.off", "OFF\n4 1 0\n" + kSquare + "2 0 1      \n"), "2 corners");
   ExpectRefused(Write("big.off", "OFF\n4 1 0\n" + kSquare + "1000 0 1 2\n"), "1000 corners");
   ExpectRefused(Write("xyz.off", "OFF\n4 1 0\n0 0 0\nx y z\n1 1 0\n0 1 0\n3 0 1 2\n"), "bad coordinate 'x'");

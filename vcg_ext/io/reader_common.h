@@ -121,10 +121,10 @@ inline bool AppendFanTriangles(const std::vector<int>& corners, std::vector<std:
   return true;
 }
 
-/// A non-negative byte count for a message, "more than 10^18" beyond what an integer holds (a
-/// header's declared counts can be as large as 9.2e18 each; casting that product is undefined).
+/// A non-negative byte count for an "at least N bytes" message, "10^18" from there on (a header's
+/// declared counts can be as large as 9.2e18 each; casting their product to an integer is undefined).
 inline std::string ByteCountText(long double bytes) {
-  if (!(bytes < 1e18L)) return "more than 10^18";
+  if (!(bytes < 1e18L)) return "10^18";
   return std::to_string((unsigned long long)(bytes < 0 ? 0 : bytes));
 }
 
