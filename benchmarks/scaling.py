@@ -191,7 +191,6 @@ def main():
             data = json.load(f)
         render(data["results"], data["throughput_before"], data["throughput_after"], data.get("date"), args)
         return
-    args.samples = 0
     tools = rb.Tools(args)
     needed = [tools.molremesh] + ([] if args.skip_cgal else [tools.cgal])
     for path in needed:

@@ -29,35 +29,39 @@ public:
   /// Makes room for at least `capacity` vertices without a doubling; pu says how pointers moved.
   static void ReserveVertices(MeshType& m, std::size_t capacity, Updater<VertexPointer>& pu) {
     pu.Clear();
-    if (m.vert.capacity() >= capacity) return;
-    Reallocate(m.vert, pu, [&] { m.vert.reserve(capacity); });
-    if (pu.NeedUpdate()) UpdateVertexPointers(m, pu);
+    if (m.vert.capacity() < capacity) ChangeVertices(m, pu, [&] { m.vert.reserve(capacity); });
   }
 
   /// Makes room for at least `capacity` faces without a doubling; pu says how pointers moved.
   static void ReserveFaces(MeshType& m, std::size_t capacity, Updater<FacePointer>& pu) {
     pu.Clear();
-    if (m.face.capacity() >= capacity) return;
-    Reallocate(m.face, pu, [&] { m.face.reserve(capacity); });
-    if (pu.NeedUpdate()) UpdateFacePointers(m, pu);
+    if (m.face.capacity() < capacity) ChangeFaces(m, pu, [&] { m.face.reserve(capacity); });
   }
 
   /// Gives back the capacity beyond the elements' count when it exceeds it by more than
   /// 1/slackDivisor (a reallocation costs a copy of the vector; a small excess is not worth it).
   static void ShrinkToFit(MeshType& m, std::size_t slackDivisor = 8) {
-    if (m.vert.capacity() > m.vert.size() + m.vert.size() / slackDivisor) {
-      Updater<VertexPointer> pu;
-      Reallocate(m.vert, pu, [&] { m.vert.shrink_to_fit(); });
-      if (pu.NeedUpdate()) UpdateVertexPointers(m, pu);
-    }
-    if (m.face.capacity() > m.face.size() + m.face.size() / slackDivisor) {
-      Updater<FacePointer> pu;
-      Reallocate(m.face, pu, [&] { m.face.shrink_to_fit(); });
-      if (pu.NeedUpdate()) UpdateFacePointers(m, pu);
-    }
+    Updater<VertexPointer> vertexUpdate;
+    if (m.vert.capacity() > m.vert.size() + m.vert.size() / slackDivisor)
+      ChangeVertices(m, vertexUpdate, [&] { m.vert.shrink_to_fit(); });
+    Updater<FacePointer> faceUpdate;
+    if (m.face.capacity() > m.face.size() + m.face.size() / slackDivisor)
+      ChangeFaces(m, faceUpdate, [&] { m.face.shrink_to_fit(); });
   }
 
 private:
+  template <class Change>
+  static void ChangeVertices(MeshType& m, Updater<VertexPointer>& pu, Change change) {
+    Reallocate(m.vert, pu, change);
+    if (pu.NeedUpdate()) UpdateVertexPointers(m, pu);
+  }
+
+  template <class Change>
+  static void ChangeFaces(MeshType& m, Updater<FacePointer>& pu, Change change) {
+    Reallocate(m.face, pu, change);
+    if (pu.NeedUpdate()) UpdateFacePointers(m, pu);
+  }
+
   template <class Container, class Pointer, class Change>
   static void Reallocate(Container& elements, Updater<Pointer>& pu, Change change) {
     if (elements.empty()) {
