@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Builds PyMeshLab 2023.12 (MeshLab's meshlab-common, the io_base plugin and the pmeshlab Python module)
 # from the vendored reduced source tree into a cache folder outside the clone, once: a complete cache
-# (stamp file matching the tarball) is left alone, so a fresh machine pays the build (about 15-40 min on
+# (stamp file matching the tarball) is left alone, so a fresh machine pays the build (about 3 min on
 # 2 cores) and later runs and CI reuse it.
 #
 # usage: build_pymeshlab.sh [TARBALL]
@@ -13,6 +13,7 @@
 # Result, inside the cache folder:
 #   python/pymeshlab/        the relocatable package (PYTHONPATH=<cache>/python; /usr/bin/python3 + numpy)
 #   python/pymeshlab/lib/    libmeshlab-common.so, plugins/libio_base.so
+#   interpreter              the Python it is built for (PYTHON_EXECUTABLE, default /usr/bin/python3)
 #   src/PyMeshLab/src/meshlab/src/{common,vcglib}   the MeshLab 2023.12 headers and vcglib a plugin uses
 set -euo pipefail
 
@@ -30,6 +31,7 @@ tarball=$(cd "$(dirname "$tarball")" && pwd)/$(basename "$tarball")
 stamp="$cache/.complete"
 tar_id=$(sha256sum "$tarball" | cut -d' ' -f1)
 if [ -f "$stamp" ] && [ "$(cat "$stamp")" = "$tar_id" ]; then
+  [ -f "$cache/interpreter" ] || command -v "$python" >"$cache/interpreter"
   echo "build_pymeshlab: cache complete at $cache"
   exit 0
 fi
@@ -60,5 +62,7 @@ for dir in src/meshlab/src/common src/meshlab/src/meshlabplugins/io_base src/pym
 done
 
 PYTHONPATH="$cache/python" "$python" -c 'import pymeshlab; pymeshlab.MeshSet()'
+# The scripts of meshlabserver_scripts/pymeshlab/ run again under this interpreter when started by another.
+command -v "$python" >"$cache/interpreter"
 echo "$tar_id" >"$stamp"
 echo "build_pymeshlab: built in $(($(date +%s) - start)) s; PYTHONPATH=$cache/python"

@@ -23,6 +23,25 @@ def pymeshlab_cache_dir():
                                        default / "molremesh" / "pymeshlab-2023.12"))
 
 
+def cache_interpreter():
+    """The Python the cache's PyMeshLab is built for (scripts/build_pymeshlab.sh records it)."""
+    recorded = pymeshlab_cache_dir() / "interpreter"
+    return recorded.read_text().strip() if recorded.is_file() else "/usr/bin/python3"
+
+
+def rerun_with_cache_interpreter():
+    """A script started by another Python (a pyenv or venv python3 first on PATH, without the
+    cache's numpy or ABI) runs again under the cache's own interpreter, once."""
+    interpreter = cache_interpreter()
+    script = sys.argv[0] if sys.argv else ""
+    if (os.environ.get("MOLREMESH_PYMESHLAB_RERUN") or not os.path.isfile(script)
+            or not os.access(interpreter, os.X_OK)
+            or os.path.realpath(sys.executable) == os.path.realpath(interpreter)):
+        return
+    os.environ["MOLREMESH_PYMESHLAB_RERUN"] = "1"
+    os.execv(interpreter, [interpreter, *sys.argv])
+
+
 def import_pymeshlab():
     """The pymeshlab module: an installed one, else the cache's."""
     try:
@@ -32,8 +51,9 @@ def import_pymeshlab():
         try:
             import pymeshlab  # noqa: F401
         except ImportError as error:
-            sys.exit(f"molremesh: cannot import pymeshlab ({error}); run scripts/build_pymeshlab.sh "
-                     "or install a PyMeshLab 2023.12 wheel")
+            rerun_with_cache_interpreter()
+            sys.exit(f"molremesh: cannot import pymeshlab ({error}) in {sys.executable}; run "
+                     "scripts/build_pymeshlab.sh or install a PyMeshLab 2023.12 wheel")
     import pymeshlab
     return pymeshlab
 
