@@ -35,7 +35,7 @@ constexpr const char* kUsage = "usage: mesh_distance A B [--samples N] [--seed S
 /// Counts and sizes of m. The mean edge length is over distinct undirected edges of faces with
 /// three distinct vertices and finite corners, as in `molremesh report`.
 nlohmann::json Stats(const MeshD& m, const std::string& path) {
-  using molremesh::distance_detail::IsFinite;
+  using molremesh::IsFinite;
   std::vector<std::pair<std::size_t, std::size_t>> edges;
   std::size_t faces = 0;
   double area = 0;
