@@ -12,12 +12,14 @@
 // threads: kBaseBytes, plus kBytesPerFace per face of the largest mesh of the run (the input, or
 // the output the target edge length implies), plus kBytesPerInputVertex per input vertex (an
 // unwelded OBJ soup has three per face until the clean stage merges them). Measured peak of the
-// CLI -> estimate: 4JSV EDTSurf (535k faces) 762 -> 985 MB, 1HPV (378k) 546 -> 708, 1TII EDTSurf
-// (921k) 1224 -> 1640, 1MAH PyMOL (60k) 125 -> 167 (147 in a test program without the CLI's
-// allocator settings), a 1UBQ PyMOL soup (49k faces, 146k vertices) 124 -> 193, lysozyme at
-// L = 0.35 (107k output faces) 151 -> 228, BPTI at L = 0.25 (109k) 159 -> 241, galactose at
-// L = 0.1 (35k) 61 -> 123: above every peak, by 14 to 100 %. It is an estimate: a run just under
-// the limit may still need more, one just over may fit; a limit < 0 turns the check off.
+// CLI (1 and 2 threads) -> estimate: raw SES level sets of 1UBQ (9.8k and 44k faces) 56 -> 81 and
+// 102 -> 138 MB, of 1HPV (148k) 262 -> 315, of 4JSV (465k, 1.29M, 2.56M) 627 -> 852, 1650 -> 2245
+// and 3276 -> 4405; EDTSurf 1HPV (378k) 546 -> 708, 4JSV (535k) 735 -> 985 (825 in the slowest of
+// several runs: glibc's arenas vary); 1MAH PyMOL (60k) 150 -> 167, whose output has 1.58 times the
+// faces of a uniform mesh at L and so bounds kBytesPerFace from below (1200 would leave it 7 %); a
+// 1UBQ PyMOL soup (49k faces, 146k vertices) 124 -> 193: above every peak, by 11 to 45 %. It is an
+// estimate: a run just under the limit may still need more, one just over may fit; a limit < 0
+// turns the check off.
 //
 // The quality report is linear in the mesh but for its self-intersection count, whose found pairs
 // are bounded only by the candidate pairs of its grid: 22 to 32 per face on the shared meshes, but
