@@ -301,6 +301,7 @@ std::string RunStages(const Mesh& m, const FilterSpec& filter, const ParameterVa
     progress.Step(fraction, step);
   };
   params.rar.progress = params.cvt.progress;
+  params.clean.progress = params.cvt.progress;
   CopyTriangles(work, m);
   if (values.Has("regionOnly") && values.Bool("regionOnly"))
     return RunSelectedRegion(m, params, log, work, selected);

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstddef>
+#include <functional>
+#include <string>
 
 namespace molremesh {
 
@@ -36,6 +38,9 @@ struct CleanRawMeshParams {
   double maxFillDihedral = 150.0; ///< degrees; a fill triangle never folds more than this against a neighbour
   int threads = 0;                ///< worker threads of the tangle search and the before/after
                                   ///< measurements; 0 = all cores (same result)
+  /// If set, called on the calling thread at each step with the share of the cleaning done (0..1)
+  /// and the step ("Closing holes"); for progress bars, like the callback of Do.
+  std::function<void(double fraction, const std::string& step)> progress;
 };
 
 namespace clean {

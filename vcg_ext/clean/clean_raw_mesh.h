@@ -141,8 +141,9 @@ private:
   using Orientation = clean::Orientation<MeshType>;
   using SplitPairs = std::vector<std::pair<Index, Index>>; ///< (original, copy) of split vertices
 
-  static void Progress(vcg::CallBackPos* cb, int percent, const char* what) {
+  static void Progress(const Params& params, vcg::CallBackPos* cb, int percent, const char* what) {
     if (cb) (*cb)(percent, what);
+    if (params.progress) params.progress(percent / 100.0, what);
   }
 
   // Refusal (nothing is modified before this returns true)
@@ -206,7 +207,7 @@ private:
     qp.computeSelfIntersections = params.measureSelfIntersections;
     qp.degenerateAreaEpsilon = params.degenerateAreaEpsilon;
     qp.threads = params.threads;
-    Progress(cb, 0, "Measuring the input");
+    Progress(params, cb, 0, "Measuring the input");
     r.reportBefore = Quality::Compute(m, qp);
     // The tolerances are relative to MeshQuality's mean edge length, so that "degenerate" means the
     // same thing here and in the report.
@@ -215,61 +216,61 @@ private:
                                 : MeanEdgeLength(m, /*skipCollapsedSides=*/true);
     const std::size_t inputFaces = m.face.size();
 
-    Progress(cb, 5, "Merging coincident vertices");
+    Progress(params, cb, 5, "Merging coincident vertices");
     MergeAndDropBadFaces(m, params, meanEdge, r); // step 1
 
-    Progress(cb, 15, "Removing faces on non-manifold edges");
+    Progress(params, cb, 15, "Removing faces on non-manifold edges");
     r.removedNonManifoldFaces = clean::ResolveNonManifoldEdges(m); // step 2
     if (r.removedNonManifoldFaces > 0) clean::RebuildTopology(m);
 
-    Progress(cb, 20, "Orienting coherently");
+    Progress(params, cb, 20, "Orienting coherently");
     std::vector<std::uint8_t> flipped(m.face.size(),
                                       0); // per face: orientation reversed an odd number of times
     std::vector<std::pair<Index, Index>> orientationConflicts;
     Orientation::OrientCoherently(m, flipped, orientationConflicts); // step 3
 
-    Progress(cb, 25, "Removing zero-area faces");
+    Progress(params, cb, 25, "Removing zero-area faces");
     FixZeroAreaFaces(m, params.degenerateAreaEpsilon * meanEdge * meanEdge, r); // step 4
 
-    Progress(cb, 35, "Splitting non-manifold vertices");
+    Progress(params, cb, 35, "Splitting non-manifold vertices");
     const SplitPairs splitEarly = SplitNonManifoldVertices(m, true, r); // step 5
 
-    Progress(cb, 40, "Removing small components");
+    Progress(params, cb, 40, "Removing small components");
     RemoveSmallComponents(m, params, meanEdge, r); // step 6
 
     clean::CleanRunState run{params, meanEdge, PlaneTolerance(m, meanEdge), params.maxRepairAttempts};
     clean::ResetFillBudget(run, inputFaces);
     SeparateSplitCopies(m, splitEarly, run, r); // step 7
     if (params.repairTangles) {
-      Progress(cb, 50, "Repairing local tangles");
+      Progress(params, cb, 50, "Repairing local tangles");
       clean::ResetFillBudget(run, inputFaces);
       RepairTangles(m, run, flipped, orientationConflicts, r); // step 8
     }
     r.nonOrientableComponents = Orientation::CountNonOrientableComponents(m, orientationConflicts);
     r.unrepairedTangles += r.nonOrientableComponents; // at least one orientation defect in each
 
-    Progress(cb, 70, "Closing holes");
+    Progress(params, cb, 70, "Closing holes");
     clean::ResetFillBudget(run, inputFaces);
     CloseHoles(m, run, r); // step 9
 
-    Progress(cb, 85, "Splitting remaining non-manifold vertices");
+    Progress(params, cb, 85, "Splitting remaining non-manifold vertices");
     const SplitPairs splitLate = SplitNonManifoldVertices(m, false, r); // step 10
     clean::ResetFillBudget(run, inputFaces);
     SeparateSplitCopies(m, splitLate, run, r);
     r.fillBudgetRefusals = run.fillBudgetRefusals;
 
-    Progress(cb, 90, "Orienting closed components outward");
+    Progress(params, cb, 90, "Orienting closed components outward");
     flipped.resize(m.face.size(), 0);
     r.flippedComponents = Orientation::OrientOutward(m, params.orientCavitiesInward, flipped); // step 11
     for (std::size_t f = 0; f < inputFaces && f < m.face.size(); ++f)
       if (!m.face[f].IsD() && flipped[f]) ++r.flippedFacesForOrientation;
 
-    Progress(cb, 95, "Compacting");
+    Progress(params, cb, 95, "Compacting");
     r.removedOrphanedVertices = Finish(m); // step 12
     r.keptComponents = clean::KeptComponents(m);
     r.reportAfter = Quality::Compute(m, qp);
     if (params.volumetricFallback && !FallbackTrigger(r).empty()) FallBack(m, params, cb, r); // step 13
-    Progress(cb, 100, "Clean raw mesh done");
+    Progress(params, cb, 100, "Clean raw mesh done");
   }
 
   /// The defects the local steps left, as a phrase; empty when there is none.
@@ -292,7 +293,7 @@ private:
   /// Step 13 (volumetric_fallback.h): the whole surface rebuilt from the union of what it encloses,
   /// then cleaned again without the fallback; the remaining-defect counts become the second pass's.
   static void FallBack(MeshType& m, const Params& params, vcg::CallBackPos* cb, Result& r) {
-    Progress(cb, 96, "Rebuilding the surface volumetrically");
+    Progress(params, cb, 96, "Rebuilding the surface volumetrically");
     r.fallback.trigger = FallbackTrigger(r);
     const clean::VolumetricFallbackOutcome o = clean::RebuildVolumetrically(m, params.threads);
     r.fallback.available = o.available;

@@ -103,8 +103,8 @@ public:
                                    ///< that it encloses the input's volume again (see RestoreVolume)
     double maxVolumeOffset = 0.05; ///< bound on that offset, in units of L (keeps vertices near the input)
     typename ReferenceSurface<MeshType>::Params reference; ///< for the reference built by Do(m, params)
-    /// If set, called on the calling thread at each sampling pass and Lloyd iteration with the
-    /// share of the stage done (0..1) and the step ("Lloyd iteration 17/42"); for progress bars.
+    /// If set, called on the calling thread at each sampling pass, Lloyd iteration and the volume
+    /// restoration with the share of the stage done (0..1) and the step ("Lloyd iteration 17/42").
     std::function<void(double fraction, const std::string& step)> progress;
   };
 
@@ -215,10 +215,17 @@ private:
   /// consecutive edits touch the same memory.
   static void CollectEdges(const MeshType& m, double threshold2, bool longer, double cell,
                            std::vector<EdgeCandidate>& out);
+  /// advanced, when set, hears the share of the candidate edges gone through, every few thousand.
   static std::size_t SplitPass(Ops& ops, double threshold, std::size_t limit,
-                               std::vector<EdgeCandidate>& edges);
+                               std::vector<EdgeCandidate>& edges,
+                               const std::function<void(double)>& advanced = {});
   static std::size_t CollapsePass(Ops& ops, double threshold, double maxNewEdge, std::size_t limit,
-                                  std::vector<EdgeCandidate>& edges);
+                                  std::vector<EdgeCandidate>& edges,
+                                  const std::function<void(double)>& advanced = {});
+  /// Calls advanced every 4096 candidates (a progress bar's step of a long serial pass).
+  static void Advance(const std::function<void(double)>& advanced, std::size_t i, std::size_t n) {
+    if (advanced && i % 4096 == 4095) advanced(double(i + 1) / double(n));
+  }
   /// Flips non-Delaunay edges (guarded) until none is left or the flip budget is spent: all
   /// edges are tested in parallel, then a work list is processed serially; each flip queues the
   /// four edges around it.
@@ -340,13 +347,16 @@ void CvtInitialization<MeshType>::CollectEdges(const MeshType& m, double thresho
 
 template <class MeshType>
 std::size_t CvtInitialization<MeshType>::SplitPass(Ops& ops, double threshold, std::size_t limit,
-                                                   std::vector<EdgeCandidate>& edges) {
+                                                   std::vector<EdgeCandidate>& edges,
+                                                   const std::function<void(double)>& advanced) {
   MeshType& m = ops.Mesh();
   const bool all = limit == std::numeric_limits<std::size_t>::max();
   CollectEdges(m, threshold * threshold, true, all ? 2.0 * ops.TargetEdgeLength() : 0.0, edges);
   std::size_t done = 0;
-  for (const EdgeCandidate& e : edges) {
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const EdgeCandidate& e = edges[i];
     if (done >= limit) break;
+    Advance(advanced, i, edges.size());
     FacePointer f = nullptr;
     int z = 0;
     // Indices stay valid while vertices are added; pointers are fetched afresh every time.
@@ -360,13 +370,16 @@ std::size_t CvtInitialization<MeshType>::SplitPass(Ops& ops, double threshold, s
 
 template <class MeshType>
 std::size_t CvtInitialization<MeshType>::CollapsePass(Ops& ops, double threshold, double maxNewEdge,
-                                                      std::size_t limit, std::vector<EdgeCandidate>& edges) {
+                                                      std::size_t limit, std::vector<EdgeCandidate>& edges,
+                                                      const std::function<void(double)>& advanced) {
   MeshType& m = ops.Mesh();
   const bool all = limit == std::numeric_limits<std::size_t>::max();
   CollectEdges(m, threshold * threshold, false, all ? 2.0 * ops.TargetEdgeLength() : 0.0, edges);
   std::size_t done = 0;
-  for (const EdgeCandidate& e : edges) {
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const EdgeCandidate& e = edges[i];
     if (done >= limit) break;
+    Advance(advanced, i, edges.size());
     if (m.vert[e.a].IsD() || m.vert[e.b].IsD()) continue;
     FacePointer f = nullptr;
     int z = 0;
@@ -528,14 +541,29 @@ void CvtInitialization<MeshType>::Sample(Ops& ops, const Params& params, double 
                                          std::vector<EdgeCandidate>& edges, vcg::CallBackPos* cb) {
   const std::size_t unlimited = std::numeric_limits<std::size_t>::max();
   const double splitLength = params.splitFactor * L, collapseLength = params.collapseFactor * L;
-  for (int pass = 0; pass < params.samplingPasses; ++pass) {
-    Progress(cb, 0.1 * pass / std::max(1, params.samplingPasses), "CVT: sampling");
+  const int passes = std::max(1, params.samplingPasses);
+  // Shares of the stage: the setup before the first pass (reference surface, guards) 2 %, the
+  // first pass, which does most of the edits, 12 %, the other passes 6 % together; within a pass
+  // the splits half, the collapses a third, the flips the rest.
+  auto step = [&](int pass, int part, double within, const char* what) {
+    const double begin = pass == 0 ? 0.02 : 0.14 + 0.06 * (pass - 1) / std::max(1, passes - 1);
+    const double end = pass == 0 ? 0.14 : 0.14 + 0.06 * pass / std::max(1, passes - 1);
+    const double partBegin[3] = {0.0, 0.5, 5.0 / 6.0}, partEnd[3] = {0.5, 5.0 / 6.0, 1.0};
+    const double inPass = partBegin[part] + (partEnd[part] - partBegin[part]) * within;
+    const double fraction = begin + (end - begin) * inPass;
+    Progress(cb, fraction, "CVT: sampling");
     if (params.progress)
-      params.progress(0.1 * pass / std::max(1, params.samplingPasses),
-                      "sampling pass " + std::to_string(pass + 1) + "/" +
-                          std::to_string(params.samplingPasses));
-    std::size_t changed = SplitPass(ops, splitLength, unlimited, edges);
-    changed += CollapsePass(ops, collapseLength, splitLength, unlimited, edges);
+      params.progress(fraction, "sampling pass " + std::to_string(pass + 1) + "/" + std::to_string(passes) +
+                                    ": " + what);
+  };
+  for (int pass = 0; pass < params.samplingPasses; ++pass) {
+    step(pass, 0, 0.0, "splits");
+    std::size_t changed = SplitPass(ops, splitLength, unlimited, edges,
+                                    [&](double within) { step(pass, 0, within, "splits"); });
+    step(pass, 1, 0.0, "collapses");
+    changed += CollapsePass(ops, collapseLength, splitLength, unlimited, edges,
+                            [&](double within) { step(pass, 1, within, "collapses"); });
+    step(pass, 2, 0.0, "flips");
     if (params.delaunayFlips) DelaunayFlips(ops, threads, params.maxFlipsPerVertex);
     if (changed == 0) break;
   }
@@ -730,9 +758,11 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   const double minMove2 = params.minMoveFactor * L * params.minMoveFactor * L;
   std::size_t applied = 0, rejected = 0;
   for (int it = 0; it < params.iterations; ++it) {
-    Progress(cb, 0.1 + 0.9 * it / std::max(1, params.iterations), "CVT: Lloyd relaxation");
+    // The iterations take 20-97 % of the stage, the volume restoration after them the rest.
+    const double fraction = 0.2 + 0.77 * it / std::max(1, params.iterations);
+    Progress(cb, fraction, "CVT: Lloyd relaxation");
     if (params.progress)
-      params.progress(0.1 + 0.9 * it / std::max(1, params.iterations),
+      params.progress(fraction,
                       "Lloyd iteration " + std::to_string(it + 1) + "/" + std::to_string(params.iterations));
     if (params.matchVertexCount && it < std::max(1, params.iterations / 3))
       MatchVertexCount(ops, m, params, L, wanted, edges);
@@ -756,8 +786,11 @@ CvtInitialization<MeshType>::Run(MeshType& m, const ReferenceSurface<MeshType>* 
   }
   if (params.matchVertexCount && params.iterations == 0) MatchVertexCount(ops, m, params, L, wanted, edges);
 
-  if (params.preserveVolume)
+  if (params.preserveVolume) {
+    Progress(cb, 0.97, "CVT: restoring the volume");
+    if (params.progress) params.progress(0.97, "restoring the volume");
     result.volumeOffset = RestoreVolume(ops, *reference, params.maxVolumeOffset * L, threads) / L;
+  }
 
   const LocalOpsStats& stats = ops.Stats();
   result.splits = stats.splits;

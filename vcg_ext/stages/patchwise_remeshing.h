@@ -811,6 +811,7 @@ AdaptiveRemeshingStats PatchwiseRemeshing<MeshType>::StripPass(Global& g, const 
     stats = Rar::Remesh(ops, g.sizing, rarParams, ctx.params->borderIterations, threads);
   // Volume, then one more repair pass with nothing locked (the strip's edits change the
   // valences just outside it, the volume offset the shape of triangles on sharp creases).
+  if (ctx.params->progress) ctx.params->progress(0.9, "restoring the volume, a last repair pass");
   stats.Add(Rar::Finalize(ops, g.sizing, rarParams, threads));
   ops.Finish();
   return stats;
@@ -948,7 +949,7 @@ void PatchwiseRemeshing<MeshType>::RemeshPatchesInParallel(Global& g0, Context& 
             const int done = ++finished;
             // Thread 0 is the calling thread: a progress bar may only be touched from there.
             if (thread == 0 && ctx.params->progress)
-              ctx.params->progress(0.05 + 0.75 * done / double(order.size()),
+              ctx.params->progress(0.05 + 0.7 * done / double(order.size()),
                                    "patch " + std::to_string(done) + "/" + std::to_string(order.size()));
           }
         },
@@ -1063,6 +1064,7 @@ PatchwiseRemeshing<MeshType>::Do(MeshType& m, const Reference& reference, const 
 
     // --- 3. Stitch; 4. verify and redo conflicting patches -------------------------------------
     Global& g = stitched;
+    progress(76, "RAR: stitching the patches and checking their borders");
     StitchAndVerify(ctx, results, original, patchCount, L0, threads, g, result);
 
     // --- 5. The strip around the borders; 6. finalize ------------------------------------------
