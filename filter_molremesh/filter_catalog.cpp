@@ -303,6 +303,13 @@ List CvtParameters() {
   AddNewLayer(list);
   return list;
 }
+/// "Remesh only selected faces", offered when the layer has a face selection; what names what runs.
+void AddRegionOnly(List& list, const std::string& what) {
+  list.push_back({Type::Bool, "regionOnly", 0, "Remesh only selected faces",
+                  what + "every other face and the selection's border stay exactly as they are, the new "
+                         "faces are added last and selected (CLI --region).",
+                  /*needsFaceSelection=*/true});
+}
 List RarParameters() {
   const PatchwiseRemeshing<MeshD>::Params defaults;
   List list;
@@ -329,6 +336,7 @@ List RarParameters() {
   AddThreads(list);
   AddMemoryLimit(list);
   AddNewLayer(list);
+  AddRegionOnly(list, "On: the filter runs on the selected faces only; ");
   return list;
 }
 List FullPipelineParameters() {
@@ -350,11 +358,8 @@ List FullPipelineParameters() {
   AddThreads(list);
   AddMemoryLimit(list);
   AddNewLayer(list);
-  list.push_back({Type::Bool, "regionOnly", 0, "Remesh only selected faces",
-                  "On: the stages run on the selected faces only (clean, CVT and segmentation are skipped); "
-                  "every other face and the selection's border stay exactly as they are, the new faces are "
-                  "added last and selected (CLI --region).",
-                  /*needsFaceSelection=*/true});
+  AddRegionOnly(list, "On: the stages run on the selected faces only (clean, CVT and segmentation are "
+                      "skipped); ");
   return list;
 }
 /// The single-step filters that edit a clean mesh: their own settings, then the common ones.
@@ -364,6 +369,7 @@ List StepParameters(void (*addOwn)(List&)) {
   AddTargetLength(list, kEditScale);
   AddThreads(list);
   AddNewLayer(list);
+  AddRegionOnly(list, "On: the filter runs on the selected faces only; ");
   return list;
 }
 void AddSmoothing(List& list) {

@@ -627,17 +627,38 @@ int main(int argc, char** argv) {
   return RUN_ALL_TESTS();
 }
 
-TEST_F(PluginTest, FullPipelineRemeshesOnlyTheSelectedFacesWhenAsked) {
-  MeshModel* mm = AddLayer("");
-  vcg::tri::Sphere(mm->cm, 3);
-  vcg::tri::UpdateBounding<CMeshO>::Box(mm->cm);
-  std::vector<std::array<vcg::Point3f, 3>> outside;
-  for (auto& f : mm->cm.face) {
+namespace {
+/// A 3-subdivision sphere with its cap above z = 0.7 selected; outside receives the other faces.
+void SelectSphereCap(CMeshO& m, std::vector<std::array<vcg::Point3f, 3>>& outside) {
+  vcg::tri::Sphere(m, 3);
+  vcg::tri::UpdateBounding<CMeshO>::Box(m);
+  for (auto& f : m.face) {
     if (f.P(0)[2] > 0.7f && f.P(1)[2] > 0.7f && f.P(2)[2] > 0.7f)
       f.SetS();
     else
       outside.push_back({f.P(0), f.P(1), f.P(2)});
   }
+}
+
+/// The result layer of a region run: the outside faces first, bit for bit and unselected, then
+/// the region's faces, selected; closed.
+void ExpectOnlyTheRegionChanged(const CMeshO& result,
+                                const std::vector<std::array<vcg::Point3f, 3>>& outside) {
+  ASSERT_GT(result.face.size(), outside.size());
+  for (std::size_t fi = 0; fi < outside.size(); ++fi) {
+    const auto& f = result.face[fi];
+    ASSERT_TRUE(f.cP(0) == outside[fi][0] && f.cP(1) == outside[fi][1] && f.cP(2) == outside[fi][2]) << fi;
+    EXPECT_FALSE(f.IsS());
+  }
+  for (std::size_t fi = outside.size(); fi < result.face.size(); ++fi) EXPECT_TRUE(result.face[fi].IsS());
+  EXPECT_EQ(molremesh::MeshQuality<CMeshO>::Compute(result).boundaryEdges, 0u);
+}
+} // namespace
+
+TEST_F(PluginTest, FullPipelineRemeshesOnlyTheSelectedFacesWhenAsked) {
+  MeshModel* mm = AddLayer("");
+  std::vector<std::array<vcg::Point3f, 3>> outside;
+  SelectSphereCap(mm->cm, outside);
   const std::size_t selected = mm->cm.face.size() - outside.size();
   {
     RichParameterList parameters;
@@ -650,14 +671,7 @@ TEST_F(PluginTest, FullPipelineRemeshesOnlyTheSelectedFacesWhenAsked) {
   MeshModel* result = document.mm();
   ASSERT_NE(result, mm);
   ASSERT_GT(result->cm.face.size(), outside.size() + selected) << "the cap at a finer length";
-  for (std::size_t fi = 0; fi < outside.size(); ++fi) {
-    const auto& f = result->cm.face[fi];
-    ASSERT_TRUE(f.cP(0) == outside[fi][0] && f.cP(1) == outside[fi][1] && f.cP(2) == outside[fi][2]) << fi;
-    EXPECT_FALSE(f.IsS());
-  }
-  for (std::size_t fi = outside.size(); fi < result->cm.face.size(); ++fi)
-    EXPECT_TRUE(result->cm.face[fi].IsS());
-  EXPECT_EQ(molremesh::MeshQuality<CMeshO>::Compute(result->cm).boundaryEdges, 0u);
+  ExpectOnlyTheRegionChanged(result->cm, outside);
   document.delMesh(result);
   document.delMesh(mm);
 
@@ -667,4 +681,30 @@ TEST_F(PluginTest, FullPipelineRemeshesOnlyTheSelectedFacesWhenAsked) {
   plugin->initParameterSet(FindFilter(plugin, kFull), *unselected, parameters);
   EXPECT_FALSE(parameters.hasParameter("regionOnly")) << "nothing selected: not offered";
   document.delMesh(unselected);
+}
+
+// The stage filters that edit a clean mesh offer the region too: RAR refines the cap alone; the
+// angle, valence and smoothing filters leave everything outside it as it was.
+TEST_F(PluginTest, StageFiltersRemeshOnlyTheSelectedFacesWhenAsked) {
+  for (const QString& filter : {kRar, kValence, kSmall, kObtuse, kSmooth}) {
+    SCOPED_TRACE(filter.toStdString());
+    MeshModel* mm = AddLayer("");
+    std::vector<std::array<vcg::Point3f, 3>> outside;
+    SelectSphereCap(mm->cm, outside);
+    const std::size_t faces = mm->cm.face.size();
+    {
+      RichParameterList parameters;
+      plugin->initParameterSet(FindFilter(plugin, filter), *mm, parameters);
+      ASSERT_TRUE(parameters.hasParameter("regionOnly"));
+    }
+    const float length = filter == kRar ? 0.05f : 0.15f;
+    ASSERT_TRUE(Apply(filter, *mm, {{"targetLength", length}}, {{"regionOnly", true}}))
+        << plugin->errorMsg().toStdString();
+    MeshModel* result = document.mm();
+    ASSERT_NE(result, mm);
+    if (filter == kRar) EXPECT_GT(result->cm.face.size(), faces) << "the cap at a finer length";
+    ExpectOnlyTheRegionChanged(result->cm, outside);
+    document.delMesh(result);
+    document.delMesh(mm);
+  }
 }
