@@ -1,4 +1,4 @@
-// `molremesh surface`: a structure file (PQR, PDB, .gz) to a molecular surface mesh, remeshed by
+// `molremesh surface`: a structure file (PQR, PDB, mmCIF, .gz) to a molecular surface mesh, remeshed by
 // the full pipeline into a solver-ready mesh in one command (--no-remesh: the raw level-set
 // surface). Parse, call vcg_ext, report as `remesh` does (cli/remesh_output.h): the same output
 // levels, exit statuses and JSON, with the structure's atom counts and the surface's figures added.
@@ -32,10 +32,12 @@ namespace molremesh::cli {
 class SurfaceCommand {
 public:
   explicit SurfaceCommand(CLI::App& app) {
-    app_ = app.add_subcommand("surface", "Build the molecular surface of a structure file (PQR, PDB, .gz) "
-                                         "and remesh it (--no-remesh: the raw surface)");
-    app_->add_option("input", input_,
-                     "Structure file: .pqr (radii from the file), .pdb/.ent (ProtOr radii), .gz")
+    app_ = app.add_subcommand("surface",
+                              "Build the molecular surface of a structure file (PQR, PDB, mmCIF, .gz) "
+                              "and remesh it (--no-remesh: the raw surface)");
+    app_->add_option(
+            "input", input_,
+            "Structure file: .pqr (radii from the file), .pdb/.ent or .cif/.mmcif (ProtOr radii), .gz")
         ->required();
     app_->add_option("output", output_, "Output mesh file (.ply, .off, .obj, .stl)")->required();
     const std::map<std::string, MolecularSurfaceKind> kinds{{"ses", MolecularSurfaceKind::Ses},

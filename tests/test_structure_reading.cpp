@@ -8,11 +8,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include "test_helpers.h"
 
 namespace {
 
+using molremesh::ReadMmCif;
 using molremesh::ReadPdb;
 using molremesh::ReadPqr;
 using molremesh::ReadStructureFile;
@@ -165,10 +167,112 @@ TEST(StructureReading, FilesByExtensionAndGzip) {
   EXPECT_EQ(r.atoms.size(), 4u);
   std::ofstream(dir / "bad.pdb.gz") << std::string("\x1f\x8b\x08\x00garbage", 12);
   ExpectError(ReadStructureFile((dir / "bad.pdb.gz").string()), "gzip");
-  ExpectError(ReadStructureFile((dir / "x.cif").string()), "mmCIF is not supported");
+  ExpectError(ReadStructureFile((dir / "x.cif").string()), "cannot open");
   ExpectError(ReadStructureFile((dir / "x.xyz").string()), "unknown structure format");
   ExpectError(ReadStructureFile((dir / "missing.pqr").string()), "cannot open");
   std::filesystem::remove_all(dir);
+}
+
+// --- mmCIF ----------------------------------------------------------------------------------------
+
+/// The atom records of a PDB text as an mmCIF _atom_site loop (the columns the wwPDB writes), one
+/// row per ATOM/HETATM line of the first model; `model` numbers the rows' model.
+std::string AtomSitesOfPdb(const std::string& pdb, int model = 1) {
+  std::ostringstream cif;
+  cif << "data_test\n#\nloop_\n";
+  for (const char* column :
+       {"group_PDB", "id", "type_symbol", "label_atom_id", "label_alt_id", "label_comp_id", "label_asym_id",
+        "label_seq_id", "pdbx_PDB_ins_code", "Cartn_x", "Cartn_y", "Cartn_z", "auth_seq_id", "auth_comp_id",
+        "auth_asym_id", "auth_atom_id", "pdbx_PDB_model_num"})
+    cif << "_atom_site." << column << "\n";
+  std::istringstream in(pdb);
+  auto field = [](const std::string& line, std::size_t at, std::size_t n) {
+    std::string v = line.size() > at ? line.substr(at, n) : "";
+    v.erase(0, v.find_first_not_of(' '));
+    v.erase(v.find_last_not_of(' ') + 1);
+    return v.empty() ? std::string("?") : v;
+  };
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("ENDMDL", 0) == 0) break;
+    if (line.rfind("ATOM", 0) != 0 && line.rfind("HETATM", 0) != 0) continue;
+    const std::string alt = field(line, 16, 1), ins = field(line, 26, 1);
+    cif << field(line, 0, 6) << " " << field(line, 6, 5) << " " << field(line, 76, 2) << " "
+        << field(line, 12, 4) << " " << (alt == "?" ? "." : alt) << " " << field(line, 17, 3) << " "
+        << field(line, 21, 1) << " " << field(line, 22, 4) << " " << ins << " " << field(line, 30, 8) << " "
+        << field(line, 38, 8) << " " << field(line, 46, 8) << " " << field(line, 22, 4) << " "
+        << field(line, 17, 3) << " " << field(line, 21, 1) << " " << field(line, 12, 4) << " " << model
+        << "\n";
+  }
+  return cif.str() + "#\n";
+}
+
+void ExpectSameAtoms(const molremesh::StructureReadResult& a, const molremesh::StructureReadResult& b) {
+  ASSERT_TRUE(a.ok) << a.message;
+  ASSERT_TRUE(b.ok) << b.message;
+  ASSERT_EQ(a.atoms.size(), b.atoms.size());
+  for (std::size_t i = 0; i < a.atoms.size(); ++i) {
+    EXPECT_EQ(a.atoms[i].position, b.atoms[i].position) << i;
+    EXPECT_EQ(a.atoms[i].radius, b.atoms[i].radius) << i << " " << a.atoms[i].name;
+    EXPECT_EQ(a.atoms[i].name, b.atoms[i].name) << i;
+    EXPECT_EQ(a.atoms[i].element, b.atoms[i].element) << i;
+    EXPECT_EQ(a.atoms[i].residueName, b.atoms[i].residueName) << i;
+    EXPECT_EQ(a.atoms[i].residueNumber, b.atoms[i].residueNumber) << i;
+    EXPECT_EQ(a.atoms[i].chain, b.atoms[i].chain) << i;
+    EXPECT_EQ(a.atoms[i].hetatm, b.atoms[i].hetatm) << i;
+  }
+  EXPECT_EQ(a.skippedWaters, b.skippedWaters);
+  EXPECT_EQ(a.skippedHydrogens, b.skippedHydrogens);
+  EXPECT_EQ(a.skippedHetatm, b.skippedHetatm);
+  EXPECT_EQ(a.skippedAltLocs, b.skippedAltLocs);
+}
+
+TEST(StructureReading, MmCifGivesThePdbReadersAtomsAndRadii) {
+  ExpectSameAtoms(ReadMmCif(AtomSitesOfPdb(SmallPdb()), "small.cif"), ReadPdb(SmallPdb(), "small.pdb"));
+  StructureReadOptions all;
+  all.keepWaters = all.keepHydrogens = all.allAltLocs = true;
+  all.radii = StructureReadOptions::Radii::Naccess;
+  ExpectSameAtoms(ReadMmCif(AtomSitesOfPdb(SmallPdb()), "small.cif", all),
+                  ReadPdb(SmallPdb(), "small.pdb", all));
+  // A whole protein: ubiquitin, 602 heavy atoms and 58 waters.
+  std::ifstream in(std::string(MOLREMESH_BUNDLED_DATA_DIR) + "/1UBQ.pdb");
+  std::ostringstream pdb;
+  pdb << in.rdbuf();
+  ASSERT_FALSE(pdb.str().empty());
+  const auto fromCif = ReadMmCif(AtomSitesOfPdb(pdb.str()), "1UBQ.cif");
+  ExpectSameAtoms(fromCif, ReadPdb(pdb.str(), "1UBQ.pdb"));
+  EXPECT_GT(fromCif.atoms.size(), 600u);
+}
+
+TEST(StructureReading, MmCifFirstModelGzipAndErrors) {
+  const std::string one = AtomSitesOfPdb(SmallPdb(), 1), two = AtomSitesOfPdb(SmallPdb(), 2);
+  // A second model's rows after the first: only the first is read.
+  const std::string rowsOfTwo = two.substr(two.find("ATOM"), two.rfind("#") - two.find("ATOM"));
+  const auto models = ReadMmCif(one.substr(0, one.rfind("#")) + rowsOfTwo + "#\n", "models.cif");
+  ASSERT_TRUE(models.ok) << models.message;
+  EXPECT_EQ(models.atoms.size(), 4u);
+
+  const auto dir = molremesh::test::TempDir("structure_reading_cif");
+  gzFile gz = gzopen((dir / "small.cif.gz").c_str(), "wb");
+  gzwrite(gz, one.data(), unsigned(one.size()));
+  gzclose(gz);
+  const auto r = ReadStructureFile((dir / "small.cif.gz").string());
+  ASSERT_TRUE(r.ok) << r.message;
+  EXPECT_EQ(r.atoms.size(), 4u);
+  std::filesystem::remove_all(dir);
+
+  std::string nan = one;
+  nan.replace(nan.find("1.500"), 5, "nan  ");
+  ExpectError(ReadMmCif(nan, "nan.cif"), "atom site row 2: coordinate is NaN");
+  std::string bad = one;
+  bad.replace(bad.find("1.500"), 5, "1.5x ");
+  ExpectError(ReadMmCif(bad, "bad.cif"), "atom site row 2: bad coordinate '1.5x'");
+  ExpectError(ReadMmCif("data_x\n_cell.length_a 10\n", "empty.cif"), "no atoms");
+  ExpectError(ReadMmCif("data_x\nloop_\n_atom_site.id\n'unterminated\n", "broken.cif"),
+              "not a valid CIF file");
+  ExpectError(ReadMmCif("", "nothing.cif"), "no data block");
+  std::string unknown = one;
+  unknown.replace(unknown.find(" ZN ZN "), 7, " XX XX ");
+  ExpectError(ReadMmCif(unknown, "unknown.cif"), "unknown element 'XX'");
 }
 
 TEST(StructureReading, FreesasaAreaOfOneSphere) {

@@ -156,6 +156,42 @@ private:
   FILE* stream_ = nullptr;
 };
 
+/// The atoms freesasa made of the kept records (in their order), with the element and record kind
+/// it does not keep; `where` names a record's position in messages ("line", "atom site row").
+inline StructureReadResult AtomsOfStructure(const freesasa_structure& structure,
+                                            const std::vector<KeptRecord>& records, const std::string& name,
+                                            const char* where, StructureReadResult& result) {
+  const int n = freesasa_structure_n(&structure);
+  if (n != int(records.size()))
+    return StructureReadResult::Failure("'" + name + "': freesasa read " + std::to_string(n) + " of the " +
+                                        std::to_string(records.size()) + " atom records");
+  const double* xyz = freesasa_structure_coord_array(&structure);
+  result.atoms.resize(n);
+  for (int i = 0; i < n; ++i) {
+    Atom& a = result.atoms[i];
+    a.position = Point(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    a.radius = freesasa_structure_atom_radius(&structure, i);
+    a.name = Trim(freesasa_structure_atom_name(&structure, i));
+    a.residueName = Trim(freesasa_structure_atom_res_name(&structure, i));
+    a.residueNumber = std::atoi(freesasa_structure_atom_res_number(&structure, i));
+    a.chain = freesasa_structure_atom_chain(&structure, i);
+    a.element = records[i].element;
+    a.hetatm = records[i].hetatm;
+    if (!(a.radius > 0))
+      return StructureReadResult::Failure(
+          "'" + name + "' " + where + " " + std::to_string(records[i].lineNumber) + ": unknown element '" +
+          a.element + "' (atom " + a.name + " of " + a.residueName + "): no radius for it");
+  }
+  result.ok = true;
+  return std::move(result);
+}
+
+/// freesasa's classifier of the radii option.
+inline const freesasa_classifier* Classifier(const StructureReadOptions& options) {
+  return options.radii == StructureReadOptions::Radii::Naccess ? &freesasa_naccess_classifier
+                                                               : &freesasa_protor_classifier;
+}
+
 } // namespace pdb_detail
 
 /// Reads the atoms of a PDB file's text (already decompressed); `name` is used in messages.
@@ -173,37 +209,13 @@ inline StructureReadResult ReadPdb(const std::string& text, const std::string& n
   CapturedFreesasaErrors errors;
   std::unique_ptr<FILE, int (*)(FILE*)> file(fmemopen(kept.data(), kept.size(), "r"), &std::fclose);
   if (!file) return StructureReadResult::Failure("'" + name + "': cannot open the text in memory");
-  const freesasa_classifier* classifier = options.radii == StructureReadOptions::Radii::Naccess
-                                              ? &freesasa_naccess_classifier
-                                              : &freesasa_protor_classifier;
+  const freesasa_classifier* classifier = Classifier(options);
   std::unique_ptr<freesasa_structure, void (*)(freesasa_structure*)> structure(
       freesasa_structure_from_pdb(file.get(), classifier,
                                   FREESASA_INCLUDE_HETATM | FREESASA_INCLUDE_HYDROGEN),
       &freesasa_structure_free);
   if (!structure) return StructureReadResult::Failure("'" + name + "': freesasa: " + errors.FirstLine());
-  const int n = freesasa_structure_n(structure.get());
-  if (n != int(records.size()))
-    return StructureReadResult::Failure("'" + name + "': freesasa read " + std::to_string(n) + " of the " +
-                                        std::to_string(records.size()) + " atom records");
-  const double* xyz = freesasa_structure_coord_array(structure.get());
-  result.atoms.resize(n);
-  for (int i = 0; i < n; ++i) {
-    Atom& a = result.atoms[i];
-    a.position = Point(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
-    a.radius = freesasa_structure_atom_radius(structure.get(), i);
-    a.name = Trim(freesasa_structure_atom_name(structure.get(), i));
-    a.residueName = Trim(freesasa_structure_atom_res_name(structure.get(), i));
-    a.residueNumber = std::atoi(freesasa_structure_atom_res_number(structure.get(), i));
-    a.chain = freesasa_structure_atom_chain(structure.get(), i);
-    a.element = records[i].element;
-    a.hetatm = records[i].hetatm;
-    if (!(a.radius > 0))
-      return StructureReadResult::Failure("'" + name + "' line " + std::to_string(records[i].lineNumber) +
-                                          ": unknown element '" + a.element + "' (atom " + a.name + " of " +
-                                          a.residueName + "): no radius for it");
-  }
-  result.ok = true;
-  return result;
+  return AtomsOfStructure(*structure, records, name, "line", result);
 }
 
 } // namespace molremesh

@@ -1,12 +1,10 @@
 // Reads a structure file by its extension: PQR (radii from the file), PDB (freesasa, radii by its
-// classifier), each optionally gzip-compressed (.gz: decompressed to memory with zlib).
-//
-// mmCIF is refused with a clear message: Debian's freesasa library has no mmCIF reader (the
-// freesasa program's --cif comes from code outside the library), and the text is converted with
-// `gemmi convert --to=pdb` or pdb2pqr in the meantime.
+// classifier), mmCIF (gemmi's CIF parser, radii by freesasa's classifier), each optionally
+// gzip-compressed (.gz: decompressed to memory with zlib).
 #pragma once
 
 #include <vcg_ext/structure/atoms.h>
+#include <vcg_ext/structure/mmcif_reader.h>
 #include <vcg_ext/structure/pdb_reader.h>
 #include <vcg_ext/structure/pqr_reader.h>
 
@@ -77,19 +75,15 @@ inline bool Gunzip(const std::string& compressed, std::string& text, std::string
   return true;
 }
 
-/// Reads the atoms of a .pqr, .pdb or .ent file (each also as .gz). Never throws for bad input:
+/// Reads the atoms of a .pqr, .pdb, .ent, .cif or .mmcif file (each also as .gz). Never throws for bad input:
 /// the result says what is wrong in one line.
 inline StructureReadResult ReadStructureFile(const std::string& path,
                                              const StructureReadOptions& options = {}) {
   const StructureFormat format = StructureFormatFromPath(path);
   if (format == StructureFormat::Unknown)
     return StructureReadResult::Failure("'" + path +
-                                        "': unknown structure format (use .pqr, .pdb or .ent, "
-                                        "optionally .gz)");
-  if (format == StructureFormat::MmCif)
-    return StructureReadResult::Failure("'" + path +
-                                        "': mmCIF is not supported (Debian's freesasa library "
-                                        "has no mmCIF reader); convert it to PDB or PQR first");
+                                        "': unknown structure format (use .pqr, .pdb, .ent, .cif or "
+                                        ".mmcif, optionally .gz)");
   std::ifstream in(path, std::ios::binary);
   if (!in) return StructureReadResult::Failure("cannot open '" + path + "'");
   std::ostringstream bytes;
@@ -101,7 +95,9 @@ inline StructureReadResult ReadStructureFile(const std::string& path,
     if (!Gunzip(text, plain, error)) return StructureReadResult::Failure("'" + path + "': " + error);
     text.swap(plain);
   }
-  return format == StructureFormat::Pqr ? ReadPqr(text, path, options) : ReadPdb(text, path, options);
+  if (format == StructureFormat::Pqr) return ReadPqr(text, path, options);
+  if (format == StructureFormat::MmCif) return ReadMmCif(text, path, options);
+  return ReadPdb(text, path, options);
 }
 
 } // namespace molremesh
