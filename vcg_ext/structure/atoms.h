@@ -50,6 +50,16 @@ struct StructureReadResult {
   }
 };
 
+/// The skip rules every reader applies: true (and the count of its kind raised) for a water, a
+/// hydrogen or a HETATM record that the options leave out. Alternate locations are the caller's.
+inline bool SkippedByOptions(const StructureReadOptions& options, bool water, bool hydrogen, bool hetatm,
+                             StructureReadResult& counts) {
+  if (!options.keepWaters && water) return ++counts.skippedWaters, true;
+  if (!options.keepHydrogens && hydrogen) return ++counts.skippedHydrogens, true;
+  if (!options.keepHetatm && hetatm) return ++counts.skippedHetatm, true;
+  return false;
+}
+
 /// Residue names of water molecules in PDB, PQR (pdb2pqr, AMBER, CHARMM) and mmCIF files.
 inline bool IsWaterResidue(const std::string& residueName) {
   return residueName == "HOH" || residueName == "WAT" || residueName == "H2O" || residueName == "DOD" ||

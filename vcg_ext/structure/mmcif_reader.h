@@ -92,18 +92,9 @@ inline bool FilterSites(const gemmi::cif::Document& doc, const std::string& name
     s.element = Value(site[7]);
     for (char& c : s.element) c = char(std::toupper(static_cast<unsigned char>(c)));
     const std::string altLoc = site.has(6) ? Value(site[6]) : std::string();
-    if (!options.keepWaters && IsWaterResidue(s.residue)) {
-      ++counts.skippedWaters;
+    if (SkippedByOptions(options, IsWaterResidue(s.residue), s.element == "H" || s.element == "D", hetatm,
+                         counts))
       continue;
-    }
-    if (!options.keepHydrogens && (s.element == "H" || s.element == "D")) {
-      ++counts.skippedHydrogens;
-      continue;
-    }
-    if (!options.keepHetatm && hetatm) {
-      ++counts.skippedHetatm;
-      continue;
-    }
     if (!altLoc.empty() && !options.allAltLocs) {
       if (firstAltLoc.empty()) firstAltLoc = altLoc;
       if (altLoc != firstAltLoc) {

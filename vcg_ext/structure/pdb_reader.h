@@ -99,18 +99,8 @@ inline std::string FilterRecords(const std::string& text, const std::string& nam
     if (!IsElementField(element)) element = ElementFromAtomName(atomName, hetatm);
     for (char& c : element) c = char(std::toupper(c));
     const char altLoc = line[16];
-    if (!options.keepWaters && IsWaterResidue(residue)) {
-      ++counts.skippedWaters;
+    if (SkippedByOptions(options, IsWaterResidue(residue), element == "H" || element == "D", hetatm, counts))
       continue;
-    }
-    if (!options.keepHydrogens && (element == "H" || element == "D")) {
-      ++counts.skippedHydrogens;
-      continue;
-    }
-    if (!options.keepHetatm && hetatm) {
-      ++counts.skippedHetatm;
-      continue;
-    }
     if (altLoc != ' ') {
       if (options.allAltLocs) {
         line[16] = ' '; // freesasa keeps one location only; a blank label makes it keep this one

@@ -125,18 +125,9 @@ inline StructureReadResult ReadPqr(const std::string& text, const std::string& n
     atom.radius = values[4];
     if (!std::isfinite(atom.radius) || atom.radius < 0)
       return fail("bad radius " + std::string(f[f.size() - 1]) + " (must be a finite number >= 0)");
-    if (!options.keepWaters && IsWaterResidue(atom.residueName)) {
-      ++result.skippedWaters;
+    if (SkippedByOptions(options, IsWaterResidue(atom.residueName), IsHydrogenAtom(atom.element, atom.name),
+                         atom.hetatm, result))
       continue;
-    }
-    if (!options.keepHydrogens && IsHydrogenAtom(atom.element, atom.name)) {
-      ++result.skippedHydrogens;
-      continue;
-    }
-    if (!options.keepHetatm && atom.hetatm) {
-      ++result.skippedHetatm;
-      continue;
-    }
     result.atoms.push_back(std::move(atom));
   }
   if (result.atoms.empty())
