@@ -54,8 +54,8 @@ public:
                      "ses: solid features thinner than this radius (Å), necks and cusps below the grid's "
                      "resolution, are opened away (default: half the grid spacing; 0 keeps them)")
         ->check(CLI::Range(0.0, 5.0));
-    app_->add_option("--grid", surface_.gridSpacing, "Grid spacing (Å): voxel edge of the level set")
-        ->capture_default_str()
+    app_->add_option("--grid", grid_,
+                     "Grid spacing (Å): voxel edge of the level set (default 0.4 × the target length, 0.4 Å)")
         ->check(CLI::Range(0.05, 5.0));
     app_->add_option("--gaussian-decay", surface_.gaussianDecay, "Decay d of the gaussian surface")
         ->capture_default_str()
@@ -73,8 +73,8 @@ public:
     app_->add_flag("--no-remesh", noRemesh_,
                    "Write the raw level-set surface (default: the full remeshing pipeline runs on it)");
     app_->add_option("--target-length", targetLength_,
-                     "Target edge length (Å) of the remeshing (default 1.0; the grid spacing is 0.4 of it "
-                     "by default)")
+                     "Target edge length (Å) of the remeshing (default 1.0); the grid spacing is 0.4 of it "
+                     "unless --grid is given")
         ->check(CLI::PositiveNumber);
     app_->add_option("--seed", seed_, "Seed of every random choice of the remeshing")->default_val(1);
     app_->add_option("--threads", threads_, "Worker threads, 0 = all cores (output does not depend on it)")
@@ -120,6 +120,7 @@ public:
         " HETATM, " + std::to_string(atoms.skippedAltLocs) + " alternate-location atoms)");
 
     surface_.keepCavities = !outerOnly_;
+    surface_.gridSpacing = grid_ > 0 ? grid_ : 0.4 * targetLength_;
     surface_.minFeatureRadius = minFeature_ < 0 ? 0.5 * surface_.gridSpacing : minFeature_;
     surface_.threads = threads_;
     MeshD mesh;
@@ -228,6 +229,7 @@ private:
   bool outerOnly_ = false, noHetatm_ = false, noRemesh_ = false;
   double targetLength_ = 1.0;
   double minFeature_ = -1; ///< < 0: half the grid spacing
+  double grid_ = -1;       ///< < 0: 0.4 × the target length
   std::uint64_t seed_ = 1;
   int threads_ = 0;
 };

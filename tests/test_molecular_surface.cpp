@@ -266,6 +266,13 @@ TEST(MolecularSurfaceCli, WritesAValidSurfaceOfASmallPqrAndRefusesBadInputInOneL
   ASSERT_EQ(verbose.exitCode, 0) << verbose.err;
   EXPECT_NE(verbose.out.find("Remeshed "), std::string::npos) << verbose.out;
   EXPECT_NE(verbose.err.find("molremesh: stage polish"), std::string::npos) << verbose.err;
+  // Without --grid the grid spacing follows the target edge length (0.4 of it).
+  const auto coarse =
+      molremesh::test::Run(kCli + " surface " + Quote((dir / "two.pqr").string()) + " " + Quote(out) +
+                           " --no-remesh --target-length 2 --quiet --json " + Quote(json));
+  ASSERT_EQ(coarse.exitCode, 0) << coarse.err;
+  EXPECT_DOUBLE_EQ(nlohmann::json::parse(molremesh::test::ReadFile(json))["surface"]["grid"].get<double>(),
+                   0.8);
   // An unknown output format is a command-line mistake, found before any work.
   const auto format = molremesh::test::Run(kCli + " surface " + Quote((dir / "two.pqr").string()) + " " +
                                            Quote((dir / "two.xyz").string()));
