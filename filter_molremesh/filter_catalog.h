@@ -30,6 +30,7 @@ enum class FilterId {
   ReduceObtuse,
   LocalSmoothing,
   FullPipeline,
+  SurfaceFromStructure,
 };
 
 /// What a filter does to the layer, which decides its menu, its attributes and how it runs.
@@ -38,6 +39,7 @@ enum class FilterKind {
   Coloring,     ///< writes colors and qualities (Color Bad Elements)
   Segmentation, ///< writes face colors and a per-face attribute (Random Segmentation)
   Stages,       ///< runs pipeline stages and replaces the mesh (or adds a layer)
+  Creation,     ///< builds a new layer from a file, without an input layer (Surface from Structure File)
 };
 
 struct FilterSpec {
@@ -51,14 +53,17 @@ struct FilterSpec {
 
 /// A parameter. Length: an edge length in the mesh's units, shown as absolute/percentage of the
 /// bounding-box diagonal, its default the layer's mean edge length (filled in by the adapter).
+/// Enum: one of `choices`, its value the index. File: a file to open, its value a path (no default),
+/// offered with the name patterns `choices` ("*.pdb").
 struct ParameterSpec {
-  enum class Type { Bool, Int, Float, Length };
+  enum class Type { Bool, Int, Float, Length, Enum, File };
   Type type;
   std::string name;
-  double defaultValue; ///< bools 0/1; ignored for Length
+  double defaultValue; ///< bools 0/1, enums the index; ignored for Length and File
   std::string label;
-  std::string help;                ///< MeshLab's tooltip and PyMeshLab's doc string
-  bool needsFaceSelection = false; ///< offered only on a layer with selected faces
+  std::string help;                      ///< MeshLab's tooltip and PyMeshLab's doc string
+  bool needsFaceSelection = false;       ///< offered only on a layer with selected faces
+  std::vector<std::string> choices = {}; ///< Enum: the choices' labels; File: the name patterns
 };
 
 /// Every filter, in menu order.
@@ -75,18 +80,27 @@ struct LengthRange {
 };
 LengthRange LengthRangeOf(double meanEdgeLength, double diagonal);
 
-/// The values of a run's parameters (bools 0/1), read from the host's parameter list.
+/// The values of a run's parameters (bools 0/1, enums their index, files their path), read from
+/// the host's parameter list.
 class ParameterValues {
 public:
   void Set(const std::string& name, double value) { values_[name] = value; }
-  bool Has(const std::string& name) const { return values_.count(name) != 0; }
+  void SetText(const std::string& name, const std::string& text) { texts_[name] = text; }
+  bool Has(const std::string& name) const { return values_.count(name) != 0 || texts_.count(name) != 0; }
   double Float(const std::string& name) const { return values_.at(name); }
   int Int(const std::string& name) const { return int(values_.at(name)); }
   bool Bool(const std::string& name) const { return values_.at(name) != 0; }
+  const std::string& Text(const std::string& name) const { return texts_.at(name); }
 
 private:
   std::map<std::string, double> values_;
+  std::map<std::string, std::string> texts_;
 };
+
+/// The double a user meant by a float parameter (both MeshLab versions store them as float): its
+/// shortest decimal, so 1.4f (1.39999997...) is the probe radius 1.4 the CLI uses and the plugin
+/// computes what `molremesh` computes.
+double DecimalOf(float value);
 
 using Pipeline = RemeshPipeline<MeshD>;
 

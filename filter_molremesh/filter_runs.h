@@ -19,6 +19,7 @@
 #include <vcg_ext/quality/quality_report_format.h>
 #include <vcg_ext/quality/quality_report_html.h>
 #include <vcg_ext/quality/stage_summary.h>
+#include <vcg_ext/volume/molecular_surface.h>
 
 #include <algorithm>
 #include <cstdint>
@@ -250,6 +251,21 @@ private:
 
 /// The stages' summaries and the quality tables of a run.
 void LogPipelineRun(const PipelineResult& result, const RunLog& log);
+
+/// What Surface from Structure File built.
+struct StructureSurfaceRun {
+  std::string layerName; ///< the new layer's name: the file's base name and the surface ("1UBQ SES")
+  std::size_t atoms = 0;
+  MolecularSurfaceResult surface;
+  bool remeshed = false;
+  PipelineResult pipeline; ///< when remeshed
+};
+
+/// Surface from Structure File: the file's atoms, their molecular surface and (unless "remesh" is
+/// off) the full pipeline on it, into `mesh`. Returns "" or why not (one line; `mesh` then empty).
+std::string RunSurfaceFromStructure(const ParameterValues& values, const RunLog& log,
+                                    const RunProgress::Callback& progressCallback, MeshD& mesh,
+                                    StructureSurfaceRun& run);
 
 /// Whether m has a selected face (the region filters' parameter is offered only then).
 template <class Mesh>

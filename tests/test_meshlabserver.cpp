@@ -513,3 +513,35 @@ TEST(MeshlabServer, FullPipelineScriptGivesTheCliResult) {
     std::filesystem::remove_all(dir);
   }
 }
+
+// Surface from Structure File in meshlabserver: no input mesh, the shipped script with its file
+// set, the new layer saved by -o. It is the CLI's `molremesh surface` at the same defaults: the
+// same faces and vertices, every angle in [30°, 90°], closed and free of self-intersections.
+TEST(MeshlabServer, SurfaceScriptGivesTheCliSurfaceWithoutAnInputMesh) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
+  const auto dir = TempDir("mls_surface");
+  const std::string structure = SharedStructure("1UBQ.pdb");
+  std::string script = ReadFile(kScripts + "/surface_from_structure.mlx");
+  const std::string placeholder = "value=\"structure.pdb\"";
+  ASSERT_NE(script.find(placeholder), std::string::npos);
+  script.replace(script.find(placeholder), placeholder.size(), "value=\"" + structure + "\"");
+  const std::string scriptFile = (dir / "surface.mlx").string();
+  std::ofstream(scriptFile) << script;
+  const std::string viaServer = (dir / "server.ply").string();
+  const std::string viaCli = (dir / "cli.ply").string();
+  const CommandResult r = BoundedServer("-o " + Quote(viaServer) + " -s " + Quote(scriptFile), 600);
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const CommandResult cli =
+      molremesh::test::Run(Quote(kCli) + " surface --quiet " + Quote(structure) + " " + Quote(viaCli));
+  ASSERT_EQ(cli.exitCode, 0) << cli.err;
+  const nlohmann::json server = CliReport(viaServer);
+  const nlohmann::json direct = CliReport(viaCli);
+  EXPECT_EQ(server["faces"], direct["faces"]);
+  EXPECT_EQ(server["vertices"], direct["vertices"]);
+  EXPECT_GE(server["angle_min_deg"].get<double>(), 30.0);
+  EXPECT_LE(server["angle_max_deg"].get<double>(), 90.01);
+  EXPECT_EQ(server["boundary_edges"].get<int>(), 0);
+  EXPECT_EQ(server["self_intersecting_pairs"].get<int>(), 0);
+  EXPECT_EQ(server["components"].get<int>(), 1);
+  std::filesystem::remove_all(dir);
+}

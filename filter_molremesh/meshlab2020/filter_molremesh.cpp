@@ -18,18 +18,30 @@ using filters::FilterId;
 using filters::FilterKind;
 
 static_assert(int(FilterId::QualityReport) == FilterMolRemeshPlugin::FP_QUALITY_REPORT &&
-                  int(FilterId::FullPipeline) == FilterMolRemeshPlugin::FP_FULL_PIPELINE,
+                  int(FilterId::FullPipeline) == FilterMolRemeshPlugin::FP_FULL_PIPELINE &&
+                  int(FilterId::SurfaceFromStructure) == FilterMolRemeshPlugin::FP_SURFACE_FROM_STRUCTURE,
               "the plugin's filter ids are the catalog's");
+
+bool IsFilter(int id) {
+  return id >= 0 && id <= FilterMolRemeshPlugin::FP_SURFACE_FROM_STRUCTURE;
+}
 
 FilterId IdOf(int filter) {
   return FilterId(filter);
 }
 
-/// The catalog's parameters as MeshLab 2020.09 RichParameters (float scalars).
-void AddParameters(FilterId id, const MeshModel& m, RichParameterList& parameters) {
+QStringList ToQStringList(const std::vector<std::string>& texts) {
+  QStringList list;
+  for (const std::string& text : texts) list << QString::fromStdString(text);
+  return list;
+}
+
+/// The catalog's parameters as MeshLab 2020.09 RichParameters (float scalars); m is the current
+/// layer, null for a filter that needs none.
+void AddParameters(FilterId id, const MeshModel* m, RichParameterList& parameters) {
   using Type = filters::ParameterSpec::Type;
   for (const filters::ParameterSpec& p : filters::Parameters(id)) {
-    if (p.needsFaceSelection && !filters::HasSelectedFace(m.cm)) continue;
+    if (p.needsFaceSelection && (m == nullptr || !filters::HasSelectedFace(m->cm))) continue;
     const QString name = QString::fromStdString(p.name);
     const QString label = QString::fromStdString(p.label);
     const QString help = QString::fromStdString(p.help);
@@ -45,10 +57,17 @@ void AddParameters(FilterId id, const MeshModel& m, RichParameterList& parameter
       break;
     case Type::Length: {
       // Absolute and % of the bounding-box diagonal, as MeshLab's own isotropic remeshing.
-      const filters::LengthRange range = filters::LengthRangeOfMesh(m.cm);
+      const filters::LengthRange range =
+          m != nullptr ? filters::LengthRangeOfMesh(m->cm) : filters::LengthRangeOf(0, 1);
       parameters.addParam(RichAbsPerc(name, float(range.value), 0.f, float(range.max), label, help));
       break;
     }
+    case Type::Enum:
+      parameters.addParam(RichEnum(name, int(p.defaultValue), ToQStringList(p.choices), label, help));
+      break;
+    case Type::File:
+      parameters.addParam(RichOpenFile(name, QString(), ToQStringList(p.choices), label, help));
+      break;
     }
   }
 }
@@ -70,7 +89,13 @@ filters::ParameterValues ReadValues(FilterId id, const RichParameterList& parame
     case Type::Float:
     case Type::Length:
       // getFloat reads both the absolute/percentage value of the dialog and a plain float of a script.
-      values.Set(p.name, parameters.getFloat(name));
+      values.Set(p.name, filters::DecimalOf(parameters.getFloat(name)));
+      break;
+    case Type::Enum:
+      values.Set(p.name, parameters.getEnum(name));
+      break;
+    case Type::File:
+      values.SetText(p.name, parameters.getOpenFileName(name).toStdString());
       break;
     }
   }
@@ -88,12 +113,12 @@ QString FilterMolRemeshPlugin::pluginName() const {
 }
 
 QString FilterMolRemeshPlugin::filterName(FilterIDType filter) const {
-  if (filter < 0 || filter > FP_FULL_PIPELINE) return "Molecular Remesh: unknown filter";
+  if (!IsFilter(filter)) return "Molecular Remesh: unknown filter";
   return QString::fromStdString(filters::Filter(IdOf(filter)).name);
 }
 
 QString FilterMolRemeshPlugin::filterInfo(FilterIDType filter) const {
-  if (filter < 0 || filter > FP_FULL_PIPELINE) return QString();
+  if (!IsFilter(filter)) return QString();
   return QString::fromStdString(filters::Filter(IdOf(filter)).info);
 }
 
@@ -106,16 +131,22 @@ MeshFilterInterface::FilterClass FilterMolRemeshPlugin::getClass(QAction* action
     // Quality: the same menu; FaceColoring: MeshLab draws the face colors after the filter. Not
     // VertexColoring, which would make the vertex colors win (see postCondition).
     return FilterClass(MeshFilterInterface::Quality | MeshFilterInterface::FaceColoring);
+  case FP_SURFACE_FROM_STRUCTURE:
+    // "Create New Mesh Layer": runs without an open layer, the result is a new one.
+    return MeshFilterInterface::MeshCreation;
   default:
     return MeshFilterInterface::Remeshing;
   }
 }
 
-MeshFilterInterface::FILTER_ARITY FilterMolRemeshPlugin::filterArity(QAction*) const {
+MeshFilterInterface::FILTER_ARITY FilterMolRemeshPlugin::filterArity(QAction* action) const {
+  // NONE: the host runs it without a layer.
+  if (ID(action) == FP_SURFACE_FROM_STRUCTURE) return NONE;
   return SINGLE_MESH;
 }
 
-int FilterMolRemeshPlugin::getPreConditions(QAction*) const {
+int FilterMolRemeshPlugin::getPreConditions(QAction* action) const {
+  if (ID(action) == FP_SURFACE_FROM_STRUCTURE) return MeshModel::MM_NONE;
   return MeshModel::MM_FACENUMBER;
 }
 
@@ -146,12 +177,19 @@ int FilterMolRemeshPlugin::postCondition(QAction* action) const {
   case FP_FULL_PIPELINE:
     // MM_ALL is 0xffffffff in an unsigned enum; the interface returns int (all bits set).
     return static_cast<int>(MeshModel::MM_ALL);
+  case FP_SURFACE_FROM_STRUCTURE: // a new layer; the current one is not touched
+    return MeshModel::MM_NONE;
   }
   return MeshModel::MM_NONE;
 }
 
 void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshModel& m, RichParameterList& parameters) {
-  AddParameters(IdOf(ID(action)), m, parameters);
+  AddParameters(IdOf(ID(action)), &m, parameters);
+}
+
+void FilterMolRemeshPlugin::initParameterSet(QAction* action, MeshDocument& md,
+                                             RichParameterList& parameters) {
+  AddParameters(IdOf(ID(action)), md.mm(), parameters);
 }
 
 bool FilterMolRemeshPlugin::fail(const QString& message) {
@@ -162,6 +200,7 @@ bool FilterMolRemeshPlugin::fail(const QString& message) {
 
 bool FilterMolRemeshPlugin::applyFilter(QAction* action, MeshDocument& md,
                                         const RichParameterList& parameters, vcg::CallBackPos* cb) {
+  if (ID(action) == FP_SURFACE_FROM_STRUCTURE) return surfaceFromStructure(md, parameters, cb);
   MeshModel* mm = md.mm();
   if (mm == nullptr) return fail(filterName(ID(action)) + ": there is no current mesh layer");
   // Every precondition is checked before the layer is touched, so a refused layer stays as it was.
@@ -176,7 +215,7 @@ bool FilterMolRemeshPlugin::applyFilter(QAction* action, MeshDocument& md,
   case FP_RANDOM_SEGMENTATION:
     return randomSegmentation(*mm, parameters);
   default:
-    if (ID(action) < 0 || ID(action) > FP_FULL_PIPELINE) return fail("unknown filter");
+    if (!IsFilter(ID(action))) return fail("unknown filter");
     return runStages(md, *mm, ID(action), parameters, cb);
   }
 }
@@ -259,6 +298,23 @@ bool FilterMolRemeshPlugin::runStages(MeshDocument& md, MeshModel& mm, FilterIDT
   for (std::size_t fi = 0; fi < selected.size() && fi < target->cm.face.size(); ++fi)
     if (selected[fi]) target->cm.face[fi].SetS();
   target->UpdateBoxAndNormals();
+  return true;
+}
+
+bool FilterMolRemeshPlugin::surfaceFromStructure(MeshDocument& md, const RichParameterList& parameters,
+                                                 vcg::CallBackPos* cb) {
+  filters::RunProgress::Callback progress;
+  if (cb != nullptr) progress = [cb](int percent, const std::string& label) { cb(percent, label.c_str()); };
+  molremesh::MeshD surface;
+  filters::StructureSurfaceRun run;
+  const std::string why = filters::RunSurfaceFromStructure(
+      ReadValues(filters::FilterId::SurfaceFromStructure, parameters), runLog(), progress, surface, run);
+  if (!why.empty()) return fail(QString::fromStdString(why));
+  // Added only now: a refused file leaves the document as it was.
+  MeshModel* layer = md.addNewMesh("", QString::fromStdString(run.layerName), true);
+  molremesh::CopyTriangles(layer->cm, surface);
+  layer->UpdateBoxAndNormals();
+  Log("%s", qUtf8Printable("Surface in the new layer \"" + layer->label() + "\""));
   return true;
 }
 

@@ -33,6 +33,7 @@ public:
     FP_REDUCE_OBTUSE,
     FP_LOCAL_SMOOTHING,
     FP_FULL_PIPELINE,
+    FP_SURFACE_FROM_STRUCTURE,
   };
 
   FilterMolRemeshPlugin();
@@ -46,6 +47,8 @@ public:
   int getRequirements(QAction* action) override;
   int postCondition(QAction* action) const override;
   void initParameterSet(QAction* action, MeshModel& m, RichParameterList& parameters) override;
+  /// The document's version, which MeshLab calls: Surface from Structure File needs no layer.
+  void initParameterSet(QAction* action, MeshDocument& md, RichParameterList& parameters) override;
   bool applyFilter(QAction* action, MeshDocument& md, const RichParameterList& parameters,
                    vcg::CallBackPos* cb) override;
 
@@ -58,6 +61,8 @@ private:
   /// into the layer itself: a failure leaves the document exactly as it was.
   bool runStages(MeshDocument& md, MeshModel& mm, FilterIDType id, const RichParameterList& parameters,
                  vcg::CallBackPos* cb);
+  /// Surface from Structure File: the surface into a new layer, which becomes the current one.
+  bool surfaceFromStructure(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
   /// The log channels of a run.
   molremesh::filters::RunLog runLog();
   /// Whether the log is shown as rich text (MeshLab's GUI), not printed (meshlabserver).

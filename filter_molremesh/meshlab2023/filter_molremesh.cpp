@@ -28,12 +28,19 @@ FilterId IdOf(int id) {
   return FilterId(id);
 }
 
-/// The catalog's parameters as MeshLab 2023.12 RichParameters (Scalarm: double in PyMeshLab).
-RichParameterList MakeParameters(FilterId id, const MeshModel& m) {
+QStringList ToQStringList(const std::vector<std::string>& texts) {
+  QStringList list;
+  for (const std::string& text : texts) list << QString::fromStdString(text);
+  return list;
+}
+
+/// The catalog's parameters as MeshLab 2023.12 RichParameters (Scalarm: double in PyMeshLab); m
+/// is the current layer, null for a filter that needs none.
+RichParameterList MakeParameters(FilterId id, const MeshModel* m) {
   using Type = filters::ParameterSpec::Type;
   RichParameterList parameters;
   for (const filters::ParameterSpec& p : filters::Parameters(id)) {
-    if (p.needsFaceSelection && !filters::HasSelectedFace(m.cm)) continue;
+    if (p.needsFaceSelection && (m == nullptr || !filters::HasSelectedFace(m->cm))) continue;
     const QString name = QString::fromStdString(p.name);
     const QString label = QString::fromStdString(p.label);
     const QString help = QString::fromStdString(p.help);
@@ -49,10 +56,17 @@ RichParameterList MakeParameters(FilterId id, const MeshModel& m) {
       break;
     case Type::Length: {
       // Absolute and % of the bounding-box diagonal, as MeshLab's own isotropic remeshing.
-      const filters::LengthRange range = filters::LengthRangeOfMesh(m.cm);
+      const filters::LengthRange range =
+          m != nullptr ? filters::LengthRangeOfMesh(m->cm) : filters::LengthRangeOf(0, 1);
       parameters.addParam(RichPercentage(name, Scalarm(range.value), 0, Scalarm(range.max), label, help));
       break;
     }
+    case Type::Enum:
+      parameters.addParam(RichEnum(name, int(p.defaultValue), ToQStringList(p.choices), label, help));
+      break;
+    case Type::File:
+      parameters.addParam(RichFileOpen(name, QString(), ToQStringList(p.choices), label, help));
+      break;
     }
   }
   return parameters;
@@ -74,7 +88,14 @@ filters::ParameterValues ReadValues(FilterId id, const RichParameterList& parame
       break;
     case Type::Float:
     case Type::Length:
-      values.Set(p.name, parameters.getFloat(name));
+      // Stored as float by MeshLab 2023.12 too (FloatValue), though read back as Scalarm.
+      values.Set(p.name, filters::DecimalOf(float(parameters.getFloat(name))));
+      break;
+    case Type::Enum:
+      values.Set(p.name, parameters.getEnum(name));
+      break;
+    case Type::File:
+      values.SetText(p.name, parameters.getOpenFileName(name).toStdString());
       break;
     }
   }
@@ -124,16 +145,22 @@ FilterPlugin::FilterClass FilterMolRemeshPlugin::getClass(const QAction* action)
   case FilterKind::Coloring:
     // Quality: the same menu; FaceColoring: MeshLab draws the face colors after the filter.
     return FilterClass(FilterPlugin::Quality | FilterPlugin::FaceColoring);
+  case FilterKind::Creation:
+    // "Create New Mesh Layer": runs without an open layer, the result is a new one.
+    return FilterPlugin::MeshCreation;
   default:
     return FilterPlugin::Remeshing;
   }
 }
 
-FilterPlugin::FilterArity FilterMolRemeshPlugin::filterArity(const QAction*) const {
+FilterPlugin::FilterArity FilterMolRemeshPlugin::filterArity(const QAction* action) const {
+  // NONE: the host runs it without a layer (PyMeshLab on an empty MeshSet).
+  if (filters::Filter(IdOf(ID(action))).kind == FilterKind::Creation) return NONE;
   return SINGLE_MESH;
 }
 
-int FilterMolRemeshPlugin::getPreConditions(const QAction*) const {
+int FilterMolRemeshPlugin::getPreConditions(const QAction* action) const {
+  if (filters::Filter(IdOf(ID(action))).kind == FilterKind::Creation) return MeshModel::MM_NONE;
   return MeshModel::MM_FACENUMBER;
 }
 
@@ -157,12 +184,18 @@ int FilterMolRemeshPlugin::postCondition(const QAction* action) const {
     return MeshModel::MM_FACECOLOR;
   case FilterKind::Stages:
     return static_cast<int>(MeshModel::MM_ALL);
+  case FilterKind::Creation: // a new layer; the current one is not touched
+    return MeshModel::MM_NONE;
   }
   return MeshModel::MM_NONE;
 }
 
 RichParameterList FilterMolRemeshPlugin::initParameterList(const QAction* action, const MeshModel& m) {
-  return MakeParameters(IdOf(ID(action)), m);
+  return MakeParameters(IdOf(ID(action)), &m);
+}
+
+RichParameterList FilterMolRemeshPlugin::initParameterList(const QAction* action, const MeshDocument& md) {
+  return MakeParameters(IdOf(ID(action)), md.mm());
 }
 
 void FilterMolRemeshPlugin::fail(const QString& message) const {
@@ -186,6 +219,10 @@ FilterMolRemeshPlugin::applyFilter(const QAction* action, const RichParameterLis
                                    MeshDocument& md, unsigned int& postConditionMask, vcg::CallBackPos* cb) {
   const ActionIDType id = ID(action);
   if (!IsFilter(id)) fail("unknown filter");
+  if (filters::Filter(IdOf(id)).kind == FilterKind::Creation) {
+    postConditionMask = unsigned(postCondition(action));
+    return surfaceFromStructure(md, parameters, cb);
+  }
   MeshModel* mm = md.mm();
   if (mm == nullptr) fail(filterName(id) + ": there is no current mesh layer");
   // Every precondition is checked before the layer is touched, so a refused layer stays as it was.
@@ -231,6 +268,8 @@ FilterMolRemeshPlugin::applyFilter(const QAction* action, const RichParameterLis
   }
   case FilterKind::Stages:
     return runStages(md, *mm, id, parameters, cb);
+  case FilterKind::Creation:
+    break; // run above
   }
   return outputs;
 }
@@ -282,6 +321,37 @@ FilterMolRemeshPlugin::Outputs FilterMolRemeshPlugin::runStages(MeshDocument& md
   // The promises of the stages that ran: a valid surface, and every target met.
   outputs["valid"] = result.verdict.Valid();
   outputs["all_targets_met"] = result.verdict.AllMet();
+  return outputs;
+}
+
+FilterMolRemeshPlugin::Outputs
+FilterMolRemeshPlugin::surfaceFromStructure(MeshDocument& md, const RichParameterList& parameters,
+                                            vcg::CallBackPos* cb) {
+  filters::RunProgress::Callback progress;
+  if (cb != nullptr) progress = [cb](int percent, const std::string& label) { cb(percent, label.c_str()); };
+  molremesh::MeshD surface;
+  filters::StructureSurfaceRun run;
+  const std::string why = filters::RunSurfaceFromStructure(
+      ReadValues(FilterId::SurfaceFromStructure, parameters), runLog(), progress, surface, run);
+  if (!why.empty()) fail(QString::fromStdString(why));
+  // Added only now: a refused file leaves the document as it was.
+  MeshModel* layer = md.addNewMesh("", QString::fromStdString(run.layerName), true);
+  molremesh::CopyTriangles(layer->cm, surface);
+  layer->updateBoxAndNormals();
+  log("%s", qUtf8Printable("Surface in the new layer \"" + layer->label() + "\""));
+
+  Outputs outputs;
+  outputs["atoms"] = int(run.atoms);
+  outputs["surface_faces"] = int(run.surface.faces);
+  outputs["surface_components"] = int(run.surface.components);
+  outputs["surface_cavities"] = int(run.surface.cavities);
+  outputs["surface_area"] = run.surface.area;
+  outputs["surface_volume"] = run.surface.volume;
+  if (run.remeshed && !run.pipeline.stages.empty()) {
+    AddFigures(outputs, run.pipeline.stages.back().after);
+    outputs["valid"] = run.pipeline.verdict.Valid();
+    outputs["all_targets_met"] = run.pipeline.verdict.AllMet();
+  }
   return outputs;
 }
 

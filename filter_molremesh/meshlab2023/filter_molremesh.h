@@ -34,6 +34,8 @@ public:
   int getRequirements(const QAction* action) override;
   int postCondition(const QAction* action) const override;
   RichParameterList initParameterList(const QAction* action, const MeshModel& m) override;
+  /// The document's version, which the host calls: Surface from Structure File needs no layer.
+  RichParameterList initParameterList(const QAction* action, const MeshDocument& md) override;
   std::map<std::string, QVariant> applyFilter(const QAction* action, const RichParameterList& parameters,
                                               MeshDocument& md, unsigned int& postConditionMask,
                                               vcg::CallBackPos* cb) override;
@@ -42,6 +44,8 @@ private:
   using Outputs = std::map<std::string, QVariant>;
   Outputs runStages(MeshDocument& md, MeshModel& mm, ActionIDType id, const RichParameterList& parameters,
                     vcg::CallBackPos* cb);
+  /// Surface from Structure File: the surface into a new layer, which becomes the current one.
+  Outputs surfaceFromStructure(MeshDocument& md, const RichParameterList& parameters, vcg::CallBackPos* cb);
   /// The log channels of a run.
   molremesh::filters::RunLog runLog() const;
   /// Logs the message and throws it as MLException (the host's error channel).

@@ -15,6 +15,7 @@ REPO = pathlib.Path(__file__).resolve().parents[2]
 FULL_PIPELINE = "molecular_remesh_full_pipeline"
 QUALITY_REPORT = "molecular_remesh_quality_report"
 COLOR_BAD_ELEMENTS = "molecular_remesh_color_bad_elements"
+SURFACE_FROM_STRUCTURE = "molecular_remesh_surface_from_structure_file"
 
 
 def pymeshlab_cache_dir():

@@ -119,6 +119,32 @@ class SameAsCli(unittest.TestCase):
         self.assertTrue(np.array_equal(ms.mesh(0).vertex_matrix(), before))
 
 
+class SurfaceFromStructure(unittest.TestCase):
+    """The creation filter on an empty MeshSet: the CLI's `molremesh surface`, bit for bit."""
+
+    def test_same_surface_as_cli(self):
+        structure = SHARED / "structures" / "1UBQ.pqr"
+        if not structure.is_file():
+            raise unittest.SkipTest(f"shared structure {structure} not found")
+        with tempfile.TemporaryDirectory() as tmp:
+            cli_out = pathlib.Path(tmp) / "cli.ply"
+            cli_json("surface", structure, cli_out, "--quiet")
+            ms = pymeshlab.MeshSet()
+            figures = ms.apply_filter(molremesh.SURFACE_FROM_STRUCTURE, structurefile=str(structure))
+            self.assertEqual(ms.mesh_number(), 1)
+            self.assertEqual(figures["atoms"], 602)
+            self.assertTrue(figures["valid"])
+            self.assertGreaterEqual(figures["angle_min_deg"], 30.0)
+            self.assertLessEqual(figures["angle_max_deg"], 90.0 + 1e-6)
+            self.assertEqual(figures["self_intersecting_pairs"], 0)
+            reference = pymeshlab.MeshSet()
+            reference.load_new_mesh(str(cli_out))
+            self.assertTrue(np.array_equal(ms.current_mesh().vertex_matrix(),
+                                           reference.current_mesh().vertex_matrix()))
+            self.assertTrue(np.array_equal(ms.current_mesh().face_matrix(),
+                                           reference.current_mesh().face_matrix()))
+
+
 # PyMeshLab 2023.12 keeps a pointer to the log of a MeshSet whose filter raised, and the next mesh
 # load logs through it: a MeshSet that saw an exception must outlive the later loads.
 REFUSED_MESH_SETS = []
@@ -143,6 +169,14 @@ class RefusedInput(unittest.TestCase):
         ms = pymeshlab.MeshSet()
         ms.add_mesh(pymeshlab.Mesh(vertices, faces))
         self.refused(ms, molremesh.FULL_PIPELINE, "vertices with NaN or infinite coordinates")
+
+    def test_missing_structure_file(self):
+        ms = pymeshlab.MeshSet()
+        REFUSED_MESH_SETS.append(ms)
+        with self.assertRaises(pymeshlab.PyMeshLabException) as raised:
+            ms.apply_filter(molremesh.SURFACE_FROM_STRUCTURE, structurefile="/nonexistent/x.pdb")
+        self.assertIn("cannot open '/nonexistent/x.pdb'", str(raised.exception))
+        self.assertEqual(ms.mesh_number(), 0)
 
     def test_bad_parameter(self):
         ms = pymeshlab.MeshSet()

@@ -5,8 +5,9 @@
 // free, cavities and separate parts kept. The caller then re-runs the cheap clean steps on it.
 //
 // This is the one call site of the rebuild in the clean stage. The volume layer needs OpenVDB, which
-// only the targets linking molremesh_openvdb see (they define MOLREMESH_HAVE_OPENVDB); elsewhere
-// (the MeshLab plugin, say) RebuildVolumetrically reports "not available" and changes nothing.
+// only the targets linking molremesh_openvdb see (they define MOLREMESH_HAVE_OPENVDB, on every
+// translation unit of the target); elsewhere RebuildVolumetrically reports "not available" and
+// changes nothing.
 #pragma once
 
 #include <cstddef>
