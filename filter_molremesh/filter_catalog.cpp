@@ -142,14 +142,10 @@ const std::vector<FilterSpec>& Filters() {
        "turned off; if a stage fails, the document is left as it was.",
        FilterKind::Stages, Pipeline::Params().stages, "remeshed"},
       {FilterId::SurfaceFromStructure, "Molecular Remesh: Surface from Structure File",
-       "Builds the molecular surface of a structure file into a new layer: PQR (radii from the file), "
-       "PDB or mmCIF (radii by freesasa's ProtOr classifier), gzipped too. The solvent-excluded surface "
-       "(SES, probe 1.4 &Aring;) by default, or the solvent-accessible (SAS), van der Waals or a Gaussian "
-       "surface like TMSmesh's, as a level set on OpenVDB's sparse grid: closed, oriented outward, free of "
-       "self-intersections, every cavity kept as its own piece. The full remeshing pipeline then runs on "
-       "it (turn it off for the raw level-set surface), so the layer is ready for TetGen and BEM/FEM "
-       "solvers. Waters and hydrogens are skipped, HETATM records kept, only the first alternate "
-       "location. Needs no open layer (CLI: molremesh surface).",
+       "Builds the molecular surface of a PQR, PDB or mmCIF file (.gz too) in a new layer: SES (probe "
+       "1.4 &Aring;), SAS, van der Waals or Gaussian, a closed level set with every cavity kept, then "
+       "remeshed for TetGen and BEM/FEM solvers (off: the raw surface). Pick the file with the ... button. "
+       "Needs no open layer; CLI: molremesh surface.",
        FilterKind::Creation, Pipeline::Params().stages, "surface"},
   };
   return filters;

@@ -111,7 +111,8 @@ std::string RunSurfaceFromStructure(const ParameterValues& values, const RunLog&
                                     StructureSurfaceRun& run) {
   mesh.Clear();
   const std::string path = values.Has("structureFile") ? values.Text("structureFile") : std::string();
-  if (path.empty()) return "Structure file: no file chosen";
+  // MeshLab's file parameter takes only what its ... button chose, not a typed path.
+  if (path.empty()) return "Structure file: no file chosen (pick it with the ... button)";
   StructureReadOptions read;
   Surface::Params surface;
   Pipeline::Params pipeline;
