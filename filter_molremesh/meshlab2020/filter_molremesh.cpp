@@ -2,6 +2,7 @@
 // macros, which must not reach the vcg_ext templates.
 #include "../filter_runs.h"
 
+#include "../host_parameters.h"
 #include "filter_molremesh.h"
 
 #include <common/mlapplication.h>
@@ -28,12 +29,6 @@ bool IsFilter(int id) {
 
 FilterId IdOf(int filter) {
   return FilterId(filter);
-}
-
-QStringList ToQStringList(const std::vector<std::string>& texts) {
-  QStringList list;
-  for (const std::string& text : texts) list << QString::fromStdString(text);
-  return list;
 }
 
 /// The catalog's parameters as MeshLab 2020.09 RichParameters (float scalars); m is the current
@@ -63,44 +58,16 @@ void AddParameters(FilterId id, const MeshModel* m, RichParameterList& parameter
       break;
     }
     case Type::Enum:
-      parameters.addParam(RichEnum(name, int(p.defaultValue), ToQStringList(p.choices), label, help));
+      parameters.addParam(
+          RichEnum(name, int(p.defaultValue), filters::ToQStringList(p.choices), label, help));
       break;
     case Type::File:
-      parameters.addParam(RichOpenFile(name, QString(), ToQStringList(p.choices), label, help));
+      parameters.addParam(RichOpenFile(name, QString(), filters::ToQStringList(p.choices), label, help));
       break;
     }
   }
 }
 
-/// The values of the parameters the filter declares.
-filters::ParameterValues ReadValues(FilterId id, const RichParameterList& parameters) {
-  using Type = filters::ParameterSpec::Type;
-  filters::ParameterValues values;
-  for (const filters::ParameterSpec& p : filters::Parameters(id)) {
-    const QString name = QString::fromStdString(p.name);
-    if (!parameters.hasParameter(name)) continue;
-    switch (p.type) {
-    case Type::Bool:
-      values.Set(p.name, parameters.getBool(name) ? 1 : 0);
-      break;
-    case Type::Int:
-      values.Set(p.name, parameters.getInt(name));
-      break;
-    case Type::Float:
-    case Type::Length:
-      // getFloat reads both the absolute/percentage value of the dialog and a plain float of a script.
-      values.Set(p.name, filters::DecimalOf(parameters.getFloat(name)));
-      break;
-    case Type::Enum:
-      values.Set(p.name, parameters.getEnum(name));
-      break;
-    case Type::File:
-      values.SetText(p.name, parameters.getOpenFileName(name).toStdString());
-      break;
-    }
-  }
-  return values;
-}
 } // namespace
 
 FilterMolRemeshPlugin::FilterMolRemeshPlugin() {
@@ -235,7 +202,7 @@ filters::RunLog FilterMolRemeshPlugin::runLog() {
 }
 
 bool FilterMolRemeshPlugin::qualityReport(MeshModel& mm, const RichParameterList& parameters) {
-  filters::RunQualityReport(mm.cm, ReadValues(filters::FilterId::QualityReport, parameters),
+  filters::RunQualityReport(mm.cm, filters::ReadValues(filters::FilterId::QualityReport, parameters),
                             mm.shortName().toStdString(), runLog());
   return true;
 }
@@ -243,7 +210,7 @@ bool FilterMolRemeshPlugin::qualityReport(MeshModel& mm, const RichParameterList
 bool FilterMolRemeshPlugin::colorBadElements(MeshModel& mm, const RichParameterList& parameters) {
   molremesh::BadElementCounts counts;
   const std::string why = filters::RunColorBadElements(
-      mm.cm, ReadValues(filters::FilterId::ColorBadElements, parameters), runLog(),
+      mm.cm, filters::ReadValues(filters::FilterId::ColorBadElements, parameters), runLog(),
       [&mm] {
         mm.updateDataMask(MeshModel::MM_VERTCOLOR | MeshModel::MM_FACECOLOR | MeshModel::MM_VERTQUALITY |
                           MeshModel::MM_FACEQUALITY);
@@ -255,7 +222,7 @@ bool FilterMolRemeshPlugin::colorBadElements(MeshModel& mm, const RichParameterL
 bool FilterMolRemeshPlugin::randomSegmentation(MeshModel& mm, const RichParameterList& parameters) {
   molremesh::SegmentationResult result;
   const std::string why = filters::RunRandomSegmentation(
-      mm.cm, ReadValues(filters::FilterId::RandomSegmentation, parameters), runLog(),
+      mm.cm, filters::ReadValues(filters::FilterId::RandomSegmentation, parameters), runLog(),
       [&mm] { mm.updateDataMask(MeshModel::MM_FACEFACETOPO | MeshModel::MM_FACECOLOR); }, result);
   return why.empty() || fail(QString::fromStdString(why));
 }
@@ -263,7 +230,7 @@ bool FilterMolRemeshPlugin::randomSegmentation(MeshModel& mm, const RichParamete
 bool FilterMolRemeshPlugin::runStages(MeshDocument& md, MeshModel& mm, FilterIDType id,
                                       const RichParameterList& parameters, vcg::CallBackPos* cb) {
   const filters::FilterSpec& filter = filters::Filter(IdOf(id));
-  const filters::ParameterValues values = ReadValues(filter.id, parameters);
+  const filters::ParameterValues values = filters::ReadValues(filter.id, parameters);
   const bool newLayer = values.Has("newLayer") && values.Bool("newLayer");
   filters::RunProgress::Callback progress;
   if (cb != nullptr) progress = [cb](int percent, const std::string& label) { cb(percent, label.c_str()); };
@@ -308,7 +275,8 @@ bool FilterMolRemeshPlugin::surfaceFromStructure(MeshDocument& md, const RichPar
   molremesh::MeshD surface;
   filters::StructureSurfaceRun run;
   const std::string why = filters::RunSurfaceFromStructure(
-      ReadValues(filters::FilterId::SurfaceFromStructure, parameters), runLog(), progress, surface, run);
+      filters::ReadValues(filters::FilterId::SurfaceFromStructure, parameters), runLog(), progress, surface,
+      run);
   if (!why.empty()) return fail(QString::fromStdString(why));
   // Added only now: a refused file leaves the document as it was.
   MeshModel* layer = md.addNewMesh("", QString::fromStdString(run.layerName), true);

@@ -2,6 +2,7 @@
 // macros, which must not reach the vcg_ext templates.
 #include "../filter_runs.h"
 
+#include "../host_parameters.h"
 #include "filter_molremesh.h"
 
 #include <common/mlapplication.h>
@@ -26,12 +27,6 @@ bool IsFilter(int id) {
 
 FilterId IdOf(int id) {
   return FilterId(id);
-}
-
-QStringList ToQStringList(const std::vector<std::string>& texts) {
-  QStringList list;
-  for (const std::string& text : texts) list << QString::fromStdString(text);
-  return list;
 }
 
 /// The catalog's parameters as MeshLab 2023.12 RichParameters (Scalarm: double in PyMeshLab); m
@@ -62,44 +57,15 @@ RichParameterList MakeParameters(FilterId id, const MeshModel* m) {
       break;
     }
     case Type::Enum:
-      parameters.addParam(RichEnum(name, int(p.defaultValue), ToQStringList(p.choices), label, help));
+      parameters.addParam(
+          RichEnum(name, int(p.defaultValue), filters::ToQStringList(p.choices), label, help));
       break;
     case Type::File:
-      parameters.addParam(RichFileOpen(name, QString(), ToQStringList(p.choices), label, help));
+      parameters.addParam(RichFileOpen(name, QString(), filters::ToQStringList(p.choices), label, help));
       break;
     }
   }
   return parameters;
-}
-
-/// The values of the parameters the filter declares.
-filters::ParameterValues ReadValues(FilterId id, const RichParameterList& parameters) {
-  using Type = filters::ParameterSpec::Type;
-  filters::ParameterValues values;
-  for (const filters::ParameterSpec& p : filters::Parameters(id)) {
-    const QString name = QString::fromStdString(p.name);
-    if (!parameters.hasParameter(name)) continue;
-    switch (p.type) {
-    case Type::Bool:
-      values.Set(p.name, parameters.getBool(name) ? 1 : 0);
-      break;
-    case Type::Int:
-      values.Set(p.name, parameters.getInt(name));
-      break;
-    case Type::Float:
-    case Type::Length:
-      // Stored as float by MeshLab 2023.12 too (FloatValue), though read back as Scalarm.
-      values.Set(p.name, filters::DecimalOf(float(parameters.getFloat(name))));
-      break;
-    case Type::Enum:
-      values.Set(p.name, parameters.getEnum(name));
-      break;
-    case Type::File:
-      values.SetText(p.name, parameters.getOpenFileName(name).toStdString());
-      break;
-    }
-  }
-  return values;
 }
 
 /// The quality figures as output values: counts as int, measures as double.
@@ -231,7 +197,7 @@ FilterMolRemeshPlugin::applyFilter(const QAction* action, const RichParameterLis
   postConditionMask = unsigned(postCondition(action));
 
   const FilterId filter = IdOf(id);
-  const filters::ParameterValues values = ReadValues(filter, parameters);
+  const filters::ParameterValues values = filters::ReadValues(filter, parameters);
   Outputs outputs;
   switch (filters::Filter(filter).kind) {
   case FilterKind::Measure:
@@ -279,7 +245,7 @@ FilterMolRemeshPlugin::Outputs FilterMolRemeshPlugin::runStages(MeshDocument& md
                                                                 const RichParameterList& parameters,
                                                                 vcg::CallBackPos* cb) {
   const filters::FilterSpec& filter = filters::Filter(IdOf(id));
-  const filters::ParameterValues values = ReadValues(filter.id, parameters);
+  const filters::ParameterValues values = filters::ReadValues(filter.id, parameters);
   const bool newLayer = values.Has("newLayer") && values.Bool("newLayer");
   filters::RunProgress::Callback progress;
   if (cb != nullptr) progress = [cb](int percent, const std::string& label) { cb(percent, label.c_str()); };
@@ -332,7 +298,7 @@ FilterMolRemeshPlugin::surfaceFromStructure(MeshDocument& md, const RichParamete
   molremesh::MeshD surface;
   filters::StructureSurfaceRun run;
   const std::string why = filters::RunSurfaceFromStructure(
-      ReadValues(FilterId::SurfaceFromStructure, parameters), runLog(), progress, surface, run);
+      filters::ReadValues(FilterId::SurfaceFromStructure, parameters), runLog(), progress, surface, run);
   if (!why.empty()) fail(QString::fromStdString(why));
   // Added only now: a refused file leaves the document as it was.
   MeshModel* layer = md.addNewMesh("", QString::fromStdString(run.layerName), true);
