@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <fstream>
 #include <regex>
+#include <sstream>
 
 #include <vcg_ext/quality/bad_element_coloring.h>
 #include <vcg_ext/quality/mesh_quality.h>
@@ -543,5 +544,51 @@ TEST(MeshlabServer, SurfaceScriptGivesTheCliSurfaceWithoutAnInputMesh) {
   EXPECT_EQ(server["boundary_edges"].get<int>(), 0);
   EXPECT_EQ(server["self_intersecting_pairs"].get<int>(), 0);
   EXPECT_EQ(server["components"].get<int>(), 1);
+  std::filesystem::remove_all(dir);
+}
+
+// A broken input in meshlabserver: the two interpenetrating PyMOL sheets of HIV protease's
+// catalytic site (triangle soups, tests/data) in one mesh. The Full Pipeline script's clean stage
+// cannot untangle them locally and rebuilds the surface volumetrically, as the CLI does: the saved
+// mesh is closed, 2-manifold and free of self-intersections.
+TEST(MeshlabServer, FullPipelineScriptRebuildsInterpenetratingPymolSheets) {
+  const auto dir = TempDir("mls_broken");
+  // As one ASCII PLY (the vertices, then the faces re-indexed).
+  std::vector<std::string> vertices, faces;
+  for (const char* part : {"1hpv_pymol_asp25_a.obj", "1hpv_pymol_asp25_b.obj"}) {
+    const std::size_t offset = vertices.size();
+    std::ifstream in(Fixture(part));
+    for (std::string line; std::getline(in, line);) {
+      if (line.rfind("v ", 0) == 0) vertices.push_back(line.substr(2));
+      if (line.rfind("f ", 0) != 0) continue;
+      std::istringstream corners(line.substr(2));
+      std::string face = "3";
+      for (std::string corner; corners >> corner;)
+        face += " " + std::to_string(std::stoul(corner) - 1 + offset);
+      faces.push_back(face);
+    }
+  }
+  const std::string merged = (dir / "asp25_ab.ply").string();
+  {
+    std::ofstream out(merged);
+    out << "ply\nformat ascii 1.0\nelement vertex " << vertices.size()
+        << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << faces.size()
+        << "\nproperty list uchar int vertex_indices\nend_header\n";
+    for (const std::string& v : vertices) out << v << '\n';
+    for (const std::string& f : faces) out << f << '\n';
+  }
+  const std::string output = (dir / "out.ply").string();
+  const std::string logFile = (dir / "log.txt").string();
+  const CommandResult r = BoundedServer("-l " + Quote(logFile) + " -i " + Quote(merged) + " -o " +
+                                            Quote(output) + " -s " + Quote(kScripts + "/full_pipeline.mlx"),
+                                        600);
+  ASSERT_EQ(r.exitCode, 0) << r.out << r.err;
+  const std::string log = ReadFile(logFile) + r.out;
+  EXPECT_NE(log.find("volumetric fallback: rebuilt"), std::string::npos) << log;
+  const nlohmann::json report = CliReport(output);
+  EXPECT_EQ(report["boundary_edges"].get<int>(), 0);
+  EXPECT_EQ(report["non_manifold_edges"].get<int>(), 0);
+  EXPECT_EQ(report["self_intersecting_pairs"].get<int>(), 0);
+  EXPECT_GE(report["angle_min_deg"].get<double>(), 30.0);
   std::filesystem::remove_all(dir);
 }
