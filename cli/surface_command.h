@@ -123,6 +123,7 @@ public:
     surface_.gridSpacing = grid_ > 0 ? grid_ : 0.4 * targetLength_;
     surface_.minFeatureRadius = minFeature_ < 0 ? 0.5 * surface_.gridSpacing : minFeature_;
     surface_.threads = threads_;
+    surface_.progress = [this](double, const std::string& step) { Log("surface: " + step); };
     MeshD mesh;
     const MolecularSurfaceResult surface = MolecularSurface<MeshD>::Build(atoms.atoms, mesh, surface_);
     if (!surface.ok) throw InputError("'" + input_ + "': " + surface.message);

@@ -127,7 +127,8 @@ protected:
   /// given float and bool ones.
   bool ApplySurface(const std::string& file, int surfaceType,
                     const std::vector<std::pair<QString, float>>& floats = {},
-                    const std::vector<std::pair<QString, bool>>& bools = {}) {
+                    const std::vector<std::pair<QString, bool>>& bools = {},
+                    vcg::CallBackPos* progress = nullptr) {
     QAction* action = FindFilter(plugin, "Molecular Remesh: Surface from Structure File");
     if (action == nullptr) return false;
     RichParameterList parameters;
@@ -136,7 +137,7 @@ protected:
     parameters.setValue("surfaceType", EnumValue(surfaceType));
     for (const auto& [name, value] : floats) parameters.setValue(name, FloatValue(value));
     for (const auto& [name, value] : bools) parameters.setValue(name, BoolValue(value));
-    return plugin->applyFilter(action, document, parameters, nullptr);
+    return plugin->applyFilter(action, document, parameters, progress);
   }
 
   std::string LogText() const {
@@ -647,6 +648,37 @@ TEST_F(PluginTest, ProgressNamesTheStageAndStepAndNeverGoesBack) {
   EXPECT_EQ(labels.count("clean (1/9): Closing holes"), 1u);
   EXPECT_GE(labels.count("cvt (2/9): sampling pass 1/4: splits"), 1u);
   EXPECT_EQ(labels.count("cvt (2/9): restoring the volume"), 1u);
+}
+
+// Surface from Structure File's bar: the surface's own steps in its first half, then the
+// pipeline's stages, never backwards.
+TEST_F(PluginTest, SurfaceFromStructureProgressNamesTheSurfaceStepsThenTheStages) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
+  progressRecords.clear();
+  progressStart = std::chrono::steady_clock::now();
+  ASSERT_TRUE(ApplySurface(SharedStructure("1UBQ.pqr"), 0, {}, {}, RecordProgress))
+      << plugin->errorMsg().toStdString();
+  ASSERT_FALSE(progressRecords.empty());
+  std::set<std::string> labels;
+  for (std::size_t i = 0; i < progressRecords.size(); ++i) {
+    const ProgressRecord& r = progressRecords[i];
+    labels.insert(r.label);
+    if (i > 0) {
+      EXPECT_GE(r.percent, progressRecords[i - 1].percent) << r.label;
+    }
+    if (r.label.rfind("ses surface: ", 0) == 0) {
+      EXPECT_LE(r.percent, 50) << r.label;
+    }
+    if (r.label.rfind("cvt (", 0) == 0) {
+      EXPECT_GE(r.percent, 50) << r.label;
+    }
+  }
+  EXPECT_EQ(labels.count("ses surface: the distance field inside the solvent-accessible surface"), 1u);
+  EXPECT_EQ(labels.count("ses surface: opening necks and cusps thinner than the grid"), 1u);
+  EXPECT_EQ(labels.count("ses surface: projecting onto the solvent-excluded surface"), 1u);
+  EXPECT_EQ(labels.count("cvt (2/9): Lloyd iteration 17/42"), 1u);
+  EXPECT_LE(progressRecords.back().percent, 100);
+  document.delMesh(document.mm());
 }
 
 // The figures of the largest shared mesh (about 75 s on two busy cores): run by hand with

@@ -41,6 +41,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -269,6 +270,9 @@ public:
     float halfWidthVoxels = 3.0; ///< narrow band on each side of the surface, voxels
     double memoryLimitMB = 0;    ///< 0: the memory available at the start; < 0: no check
     int threads = 0; ///< vertex projection threads, 0 = all cores (OpenVDB uses TBB's); output independent
+    /// Called as each step starts: the fraction of the build done before it (by its share of the
+    /// time on 4JSV's SES) and what the step does. Empty: no report.
+    std::function<void(double fraction, const std::string& step)> progress;
   };
 
   /// Replaces m's content by the surface of the atoms. Preconditions (checked, a failed result
@@ -349,18 +353,26 @@ private:
   }
 
   /// The level set of the kind, extracted into m, its vertices projected onto the exact surface.
+  static void Step(const Params& p, double fraction, const char* step) {
+    if (p.progress) p.progress(fraction, step);
+  }
+
   static void Extract(const std::vector<Atom>& atoms, const Params& p, MeshType& m) {
     using openvdb::FloatGrid;
     const double h = p.gridSpacing;
     if (p.kind == MolecularSurfaceKind::Gaussian) {
+      Step(p, 0.0, "summing the atoms' Gaussian terms");
       FloatGrid::Ptr density =
           surface_detail::NegatedGaussianDensity(atoms, h, p.gaussianDecay, p.gaussianLevel);
+      Step(p, 0.6, "extracting the isosurface");
       LevelSetToMesh(*density, m, -p.gaussianLevel);
+      Step(p, 0.8, "projecting onto the Gaussian surface");
       ProjectVerticesToLevel(m, GaussianDensity(atoms, p.gaussianDecay, GaussianReach(p)), p.gaussianLevel,
                              h);
       return;
     }
     const double grow = p.kind == MolecularSurfaceKind::VanDerWaals ? 0.0 : p.probeRadius;
+    Step(p, 0.0, "rasterizing the atoms");
     FloatGrid::Ptr grid = openvdb::createLevelSet<FloatGrid>(h, p.halfWidthVoxels);
     openvdb::tools::ParticlesToLevelSet<FloatGrid> raster(*grid);
     raster.setRmin(0.0); // hydrogens can be thinner than 1.5 voxels: rasterized all the same
@@ -369,18 +381,24 @@ private:
     openvdb::tools::signedFloodFill(grid->tree());
     const BallUnionDistance balls(atoms, grow, 2 * h);
     if (p.kind != MolecularSurfaceKind::Ses) {
+      Step(p, 0.3, "extracting the isosurface");
       LevelSetToMesh(*grid, m, 0.0);
+      Step(p, 0.5, "projecting onto the atom spheres");
       ProjectVerticesToLevel(m, balls, 0.0, h, p.threads);
       return;
     }
     // The signed distance to the SAS, with true values inside down to the probe radius.
+    Step(p, SesShare::kDistance, "the distance field inside the solvent-accessible surface");
     FloatGrid::Ptr exact =
         surface_detail::SignedDistanceToLevel(*grid, 0.0, balls, h, InnerBandVoxels(p), p.threads);
     grid.reset();
     if (p.minFeatureRadius > 0) {
+      Step(p, SesShare::kOpening, "opening necks and cusps thinner than the grid");
       FloatGrid::Ptr opened =
           surface_detail::OpenedRegion(*exact, -p.probeRadius, p.minFeatureRadius, h, p.threads);
+      Step(p, SesShare::kExtraction, "extracting the isosurface");
       LevelSetToMesh(*opened, m, 0.0);
+      Step(p, SesShare::kProjection, "projecting onto the solvent-excluded surface");
       ProjectVerticesToLevel(m, QuadraticGridField(*opened), 0.0, h, p.threads);
       opened.reset();
       // Away from the removed features the opening is the SES itself: a last short move onto it
@@ -389,12 +407,21 @@ private:
       ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, 0.25 * h, p.threads);
       return;
     }
+    Step(p, SesShare::kExtraction, "extracting the isosurface");
     LevelSetToMesh(*exact, m, -p.probeRadius);
+    Step(p, SesShare::kProjection, "projecting onto the solvent-excluded surface");
     ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, h, p.threads);
   }
 
+  /// Where the SES's steps start, as fractions of its build (4JSV's SES at 0.4 Å, 95 s: rasterizing
+  /// 1.4 s, the distance field 27, the opening 49, the extraction 1.8, the projections 15.7).
+  struct SesShare {
+    static constexpr double kDistance = 0.015, kOpening = 0.3, kExtraction = 0.81, kProjection = 0.83;
+  };
+
   /// Components, cavities (removed unless kept), area and volume.
   static void Finish(MeshType& m, const Params& p, MolecularSurfaceResult& r) {
+    Step(p, 0.99, "components and cavities");
     std::vector<std::uint32_t> faceComponent;
     const std::vector<double> volumes = surface_detail::ComponentVolumes(m, faceComponent);
     r.components = volumes.size();
