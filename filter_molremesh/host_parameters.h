@@ -1,11 +1,13 @@
-// The part of the adapters' parameter handling that is the same for MeshLab 2020.09 and 2023.12:
-// both RichParameterList classes have the same getters, so one template reads a run's values, and
-// the catalog's choices become the QStringList both RichEnum and the file parameters take.
+// The part of the adapters' host glue that is the same for MeshLab 2020.09 and 2023.12: both
+// RichParameterList classes have the same getters, so one template reads a run's values; the
+// catalog's choices become the QStringList both RichEnum and the file parameters take; and both
+// hosts' progress callbacks (vcg::CallBackPos) become a run's progress callback the same way.
 //
 // Include after filter_runs.h (Qt's keyword macros must not reach the vcg_ext templates).
 #pragma once
 
 #include "filter_catalog.h"
+#include "filter_runs.h"
 
 #include <QString>
 #include <QStringList>
@@ -19,6 +21,14 @@ inline QStringList ToQStringList(const std::vector<std::string>& texts) {
   QStringList list;
   for (const std::string& text : texts) list << QString::fromStdString(text);
   return list;
+}
+
+/// The run's progress callback that forwards to the host's bar; empty when the host gives none
+/// (meshlabserver may pass a null callback).
+template <class HostCallback>
+RunProgress::Callback HostProgress(HostCallback* cb) {
+  if (cb == nullptr) return {};
+  return [cb](int percent, const std::string& label) { cb(percent, label.c_str()); };
 }
 
 /// The values of the parameters the filter declares, read from the host's list (a script may

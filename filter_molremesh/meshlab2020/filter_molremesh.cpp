@@ -232,8 +232,7 @@ bool FilterMolRemeshPlugin::runStages(MeshDocument& md, MeshModel& mm, FilterIDT
   const filters::FilterSpec& filter = filters::Filter(IdOf(id));
   const filters::ParameterValues values = filters::ReadValues(filter.id, parameters);
   const bool newLayer = values.Has("newLayer") && values.Bool("newLayer");
-  filters::RunProgress::Callback progress;
-  if (cb != nullptr) progress = [cb](int percent, const std::string& label) { cb(percent, label.c_str()); };
+  const filters::RunProgress::Callback progress = filters::HostProgress(cb);
   molremesh::MeshD work;
   molremesh::PipelineResult result;
   std::vector<std::uint8_t> selected; // per face of the result: the remeshed region
@@ -270,8 +269,7 @@ bool FilterMolRemeshPlugin::runStages(MeshDocument& md, MeshModel& mm, FilterIDT
 
 bool FilterMolRemeshPlugin::surfaceFromStructure(MeshDocument& md, const RichParameterList& parameters,
                                                  vcg::CallBackPos* cb) {
-  filters::RunProgress::Callback progress;
-  if (cb != nullptr) progress = [cb](int percent, const std::string& label) { cb(percent, label.c_str()); };
+  const filters::RunProgress::Callback progress = filters::HostProgress(cb);
   molremesh::MeshD surface;
   filters::StructureSurfaceRun run;
   const std::string why = filters::RunSurfaceFromStructure(
