@@ -33,6 +33,7 @@
 #include <vcg_ext/structure/atoms.h>
 #include <vcg_ext/volume/atom_fields.h>
 #include <vcg_ext/volume/level_set_grid.h>
+#include <vcg_ext/volume/sphere_creases.h>
 
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/ValueTransformer.h>
@@ -263,6 +264,9 @@ public:
     double gaussianDecay = 0.9; ///< d of the Gaussian surface (TMSmesh's default)
     double gaussianLevel = 1.0; ///< isolevel of the Gaussian surface (TMSmesh's default)
     bool keepCavities = true;   ///< false: only the components enclosing positive volume
+    /// SAS, van der Waals: vertices on the creases where two spheres meet (SphereCreaseRefinement),
+    /// whose chords otherwise cut the area short by about 7 % per Å of grid spacing.
+    bool creaseVertices = true;
     /// Å, SES only: the body opened by a ball of this radius, which removes the necks and cusps
     /// thinner than it (the SES's near-singular spots, below the grid's resolution at half a voxel,
     /// where no remesh at a target length of 2.5 voxels can keep its angles); 0: the raw level set.
@@ -385,6 +389,12 @@ private:
       LevelSetToMesh(*grid, m, 0.0);
       Step(p, 0.5, "projecting onto the atom spheres");
       ProjectVerticesToLevel(m, balls, 0.0, h, p.threads);
+      if (p.creaseVertices) {
+        Step(p, 0.8, "vertices on the creases between spheres");
+        typename SphereCreaseRefinement<MeshType>::Params crease;
+        crease.threads = p.threads;
+        SphereCreaseRefinement<MeshType>::Do(m, atoms, grow, crease);
+      }
       return;
     }
     // The signed distance to the SAS, with true values inside down to the probe radius.
