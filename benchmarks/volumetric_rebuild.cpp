@@ -1,5 +1,6 @@
 // Runs the volumetric rebuild on one mesh file and prints its figures as JSON (the broken-surface
-// measurements of docs/design.md): usage volumetric_rebuild IN [OUT] [--voxel H] [--threads N].
+// measurements of docs/design.md): usage volumetric_rebuild IN [OUT] [--voxel H] [--threads N]
+// [--defects-only] (only the input's defects, welded: no rebuild).
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/quality/mesh_quality.h>
@@ -15,6 +16,7 @@
 int main(int argc, char** argv) {
   using namespace molremesh;
   std::string in, out;
+  bool defectsOnly = false;
   VolumetricRebuild<MeshD>::Params params;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -22,13 +24,15 @@ int main(int argc, char** argv) {
       params.voxelSize = std::atof(argv[++i]);
     else if (a == "--threads" && i + 1 < argc)
       params.threads = std::atoi(argv[++i]);
+    else if (a == "--defects-only")
+      defectsOnly = true;
     else if (in.empty())
       in = a;
     else
       out = a;
   }
   if (in.empty()) {
-    std::cerr << "usage: volumetric_rebuild IN [OUT] [--voxel H] [--threads N]\n";
+    std::cerr << "usage: volumetric_rebuild IN [OUT] [--voxel H] [--threads N] [--defects-only]\n";
     return 2;
   }
   MeshD m;
@@ -59,6 +63,10 @@ int main(int argc, char** argv) {
                {"components", q.components},
                {"volume", q.volume},
                {"area", q.area}};
+  }
+  if (defectsOnly) {
+    std::cout << nlohmann::json{{"input", in}, {"input_welded", defects}}.dump() << "\n";
+    return 0;
   }
   const auto start = std::chrono::steady_clock::now();
   const VolumetricRebuild<MeshD>::Result r = VolumetricRebuild<MeshD>::Do(m, params);

@@ -3,7 +3,8 @@
 # Safe to run again: apt skips what is already there. Needs root (or sudo).
 # usage: install_deps.sh [--benchmarks] [--pictures] [--unseen] [--pymeshlab]
 #   --benchmarks adds CGAL, the benchmark-only baseline, and matplotlib for the scaling plot;
-#   --unseen adds EDTSurf and PyMOL, the surface generators of benchmarks/unseen_inputs.py;
+#   --unseen adds EDTSurf, PyMOL and scikit-image, the surface generators of benchmarks/unseen_inputs.py
+#            and scripts/make_broken_surfaces.py;
 #   --pictures adds ImageMagick and xdotool, for scripts/make_pictures.sh (README screenshots of the
 #              MeshLab GUI);
 #   --pymeshlab adds what scripts/build_pymeshlab.sh needs to build PyMeshLab 2023.12 from the vendored
@@ -27,7 +28,7 @@ for option in "$@"; do
   case "$option" in
   --benchmarks) packages+=(libcgal-dev python3-matplotlib) ;;
   --pictures) packages+=(imagemagick xdotool) ;;
-  --unseen) packages+=(edtsurf python3-pymol) ;;
+  --unseen) packages+=(edtsurf python3-pymol python3-skimage) ;;
   --pymeshlab) packages+=(pybind11-dev python3-dev python3-numpy libqt5svg5-dev) ;;
   *) echo "install_deps: unknown option '$option' (use --benchmarks, --pictures, --unseen, --pymeshlab)" >&2; exit 1 ;;
   esac

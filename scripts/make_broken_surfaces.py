@@ -11,7 +11,9 @@ folder given on the command line; the meshes are not kept in the repository, onl
 
 usage: /usr/bin/python3 scripts/make_broken_surfaces.py OUTDIR [--only NAME ...]
        /usr/bin/python3 scripts/make_broken_surfaces.py --fixtures OUTDIR
---fixtures writes the small test fixtures of tests/data (FIXTURES) instead.
+       /usr/bin/python3 scripts/make_broken_surfaces.py --gaussian PDB OUT.obj GRID DECAY LEVEL
+--fixtures writes the small test fixtures of tests/data (FIXTURES) instead; --gaussian one Gaussian
+surface of any structure file (for benchmarks/unseen_inputs.py).
 Needs Debian's python3-pymol and python3-skimage (the system interpreter, /usr/bin/python3).
 """
 
@@ -158,6 +160,10 @@ def make_fixtures(out):
 
 
 def main():
+    if len(sys.argv) == 7 and sys.argv[1] == "--gaussian":
+        pdb, path, grid, decay, level = sys.argv[2:]
+        gaussian_surface(pdb, path, float(grid), float(decay), float(level))
+        return
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("out", help="folder the surfaces are written to (outside the repository)")
     p.add_argument("--fixtures", action="store_true", help="write the test fixtures of tests/data instead")
