@@ -388,7 +388,7 @@ const char* const kMemoryLimitHelp = "many MB; 0 = the memory available at the s
 
 CLI::App* AddReportCommand(CLI::App& app, CommandLine& c) {
   CLI::App* report = app.add_subcommand("report", "Print the quality figures of a mesh (no change to it)");
-  report->add_option("input", c.input, "Mesh file (.ply, .off, .obj, .stl)")->required();
+  report->add_option("input", c.input, "Mesh file (.ply, .off, .obj, .stl, .wrl)")->required();
   report->add_flag("--json", c.json, "Print JSON instead of a table");
   report->add_flag("--no-self-intersections", c.skipSelfIntersections,
                    "Skip the self-intersection count (the slowest figure)");
@@ -500,7 +500,7 @@ CLI::App* AddRemeshCommand(CLI::App& app, CommandLine& c) {
   std::string stageHelp = "Comma-separated stages to run, in pipeline order (default: all):";
   for (const auto& info : molremesh::PipelineStages()) stageHelp += std::string(" ") + info.name;
   CLI::App* remesh = app.add_subcommand("remesh", "Remesh a molecular surface (all stages, or --stages)");
-  remesh->add_option("input", c.input, "Mesh file (.ply, .off, .obj, .stl)")->required();
+  remesh->add_option("input", c.input, "Mesh file (.ply, .off, .obj, .stl, .wrl)")->required();
   remesh->add_option("output", c.output, "Output mesh file")->required();
   remesh->add_option("--stages", c.remesh.stages, stageHelp);
   remesh

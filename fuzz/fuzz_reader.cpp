@@ -1,11 +1,12 @@
 // libFuzzer target for one mesh reader, chosen at compile time by MOLREMESH_FUZZ_FORMAT (Ply, Off,
-// Stl or Obj). A reader must either refuse the bytes with a one-line message or give a mesh whose
+// Stl, Obj or Wrl). A reader must either refuse the bytes with a one-line message or give a mesh whose
 // every index is in range; the sanitizers catch everything else.
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/io/obj_reader.h>
 #include <vcg_ext/io/off_reader.h>
 #include <vcg_ext/io/ply_reader.h>
 #include <vcg_ext/io/stl_reader.h>
+#include <vcg_ext/io/wrl_reader.h>
 
 #include <cstddef>
 #include <cstdint>

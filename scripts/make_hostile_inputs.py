@@ -7,8 +7,8 @@ Classes (the file name starts with the class): truncated PLY/OFF/STL at random o
 lie about counts (negative, huge, off by one), wrong property types, face lists of 0-1000 entries,
 out-of-range and negative indices, NaN/Inf/1e38 coordinates, degenerate and non-manifold geometry,
 OBJ polygons and odd index forms, OFF comments and header variants, ascii/binary STL with wrong counts
-or missing keywords, empty and whitespace-only files, and random byte flips and token swaps of valid
-files. Every file is under 1 MB; the same seed gives the same bytes. Nothing is written outside
+or missing keywords, VRML 2.0 files (truncated, bad indices, transforms, VRML 1.0, unbalanced
+braces), empty and whitespace-only files, and random byte flips and token swaps of valid files. Every file is under 1 MB; the same seed gives the same bytes. Nothing is written outside
 OUTPUT_DIR, which must not be inside the repository.
 """
 import argparse
@@ -128,6 +128,14 @@ def stl_ascii(v, f, drop=None, newline_at_end=True):
         out.append("endsolid hostile")
     text = "\n".join(out)
     return (text + ("\n" if newline_at_end else "")).encode()
+
+
+def wrl_text(v, f, indices=None, header="#VRML V2.0 utf8", wrap=("", "")):
+    """A VRML 2.0 IndexedFaceSet as PyMOL writes it (one Shape, commas after each point and polygon)."""
+    points = ",\n".join(" ".join(fmt(c) for c in p) for p in v)
+    polygons = indices if indices is not None else ",\n".join(" ".join(map(str, t)) + " -1" for t in f)
+    return ("%s\n%sShape {\n geometry IndexedFaceSet {\n  coord Coordinate {\n   point [\n%s\n   ]\n  }\n"
+            "  coordIndex [\n%s\n  ]\n }\n}\n%s" % (header, wrap[0], points, polygons, wrap[1])).encode()
 
 
 def stl_binary(v, f, count=None):
@@ -382,6 +390,32 @@ def make(c, copies):
             for _ in range(rng.choice([1, 2, 3])):
                 t[rng.randrange(len(t))] = rng.choice(junk).encode()
             c.add("swap_" + name, b" ".join(t))
+    make_wrl(c, copies, v, f, tet_v, tet_f)
+
+
+def make_wrl(c, copies, v, f, tet_v, tet_f):
+    """VRML 2.0 files: valid, truncated, token swaps, and the shapes the reader refuses."""
+    rng = c.rng
+    valid = wrl_text(v, f)
+    c.add("valid_wrl.wrl", valid)
+    for data in [b"", b" \n", b"\0" * 200, b"#VRML V2.0 utf8\n", bytes(rng.randrange(256) for _ in range(2000))]:
+        c.add("wrl_nearly_empty.wrl", data)
+    for _ in range(25 * copies):
+        c.add("truncated_wrl.wrl", valid[:rng.randrange(1, len(valid))])
+    tokens = valid.split(b" ")
+    junk = ["-1", "-2", "nan", "1e38", "[", "]", "{", "}", "#", "USE", "DEF", "4294967296", "1.5", '"', "point"]
+    for _ in range(40 * copies):
+        t = list(tokens)
+        for _ in range(rng.choice([1, 2, 3])):
+            t[rng.randrange(len(t))] = rng.choice(junk).encode()
+        c.add("swap_wrl.wrl", b" ".join(t))
+    for bad in ["0 1 4 -1", "0 1 -2 -1", "0 1 -1", "0 1 2.5", "0 1 99999999999999", "-1 -1 -1", " ".join(["0"] * 300)]:
+        c.add("wrl_index.wrl", wrl_text(tet_v, tet_f, indices=bad))
+    c.add("wrl_v1.wrl", wrl_text(tet_v, tet_f, header="#VRML V1.0 ascii"))
+    c.add("wrl_transform.wrl", wrl_text(tet_v, tet_f, wrap=("Transform { scale 2 2 2 children [\n", "] }\n")))
+    c.add("wrl_unclosed.wrl", wrl_text(tet_v, tet_f, wrap=("Group { children [\n", "")))
+    c.add("wrl_string.wrl", wrl_text(tet_v, tet_f, wrap=('WorldInfo { info [ "a \\" ] {" ] }\n', "")))
+    c.add("wrl_deep.wrl", wrl_text(tet_v, tet_f, wrap=("Group { children [ " * 2000, "] } " * 2000)))
 
 
 def main():

@@ -18,10 +18,10 @@ if [ ! -f "$build/build.ninja" ]; then
   CC=clang-14 CXX=clang++-14 cmake -S "$repo" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release "${meshlab_source[@]}" \
     -DMOLREMESH_FUZZ=ON -DMOLREMESH_BUILD_PLUGIN=OFF -DMOLREMESH_BUILD_TESTS=OFF -DMOLREMESH_BUILD_BENCHMARKS=OFF
 fi
-cmake --build "$build" --target fuzz_ply fuzz_off fuzz_stl fuzz_obj -- -j"${JOBS:-1}"
+cmake --build "$build" --target fuzz_ply fuzz_off fuzz_stl fuzz_obj fuzz_wrl -- -j"${JOBS:-1}"
 mkdir -p "$build/findings"
 status=0
-for format in ply off stl obj; do
+for format in ply off stl obj wrl; do
   corpus="$build/corpus_$format"
   mkdir -p "$corpus"
   if [ -n "$seeds" ]; then

@@ -1,4 +1,4 @@
-// The PLY, OFF, STL and OBJ readers behind LoadMesh: hostile files (lying counts, bad indices,
+// The PLY, OFF, STL, OBJ and VRML readers behind LoadMesh: hostile files (lying counts, bad indices,
 // truncation, huge polygons, special files, numbers with garbage) give one clear error, and valid
 // files give exactly the mesh vcglib's importers give.
 #include <gtest/gtest.h>
@@ -335,6 +335,83 @@ TEST_F(MeshReaders, ObjPolygonsBeyondTheCornerLimitAreRefused) {
   std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf";
   for (int i = 0; i < 5000; ++i) obj += " " + std::to_string(i % 3 + 1);
   ExpectRefused(Write("huge.obj", obj + "\n"), "corners (3 to 256 supported)");
+}
+
+// --- VRML (.wrl) ---------------------------------------------------------------------------------
+
+/// A VRML 2.0 file shaped as PyMOL writes one: viewpoint and lights, then a Shape whose
+/// IndexedFaceSet has its coordinates, polygons ended by -1, colors and normals.
+std::string PymolStyleWrl(const std::string& points, const std::string& indices,
+                          const std::string& extra = "") {
+  return "#VRML V2.0 utf8\n\nViewpoint {\n position 0 0 119.7\n orientation 1 0 0 0\n description \"Z "
+         "view\"\n}\n"
+         "DirectionalLight {\n direction -0.34 -0.34 -0.87\n}\nShape {\n appearance Appearance {\n"
+         "  material Material { diffuseColor 1.0 1.0 1.0 }\n }\n geometry IndexedFaceSet {\n" +
+         extra + "  coord Coordinate {\n   point [\n" + points + "   ]\n  }\n  coordIndex [\n" + indices +
+         "  ]\n  colorPerVertex TRUE\n  color Color {\n   color [\n1.0 0.3 0.3,\n1.0 0.3 0.3,\n  ] }\n"
+         "  normal Normal { vector [ 0 0 1, 0 0 1 ] } # normals are recomputed\n  normalIndex [ 0 1 1 -1 ]\n "
+         "}\n}\n";
+}
+
+const std::string kWrlSquare = "0 0 0,\n1 0 0,\n1 1 0,\n0 1 0,\n";
+
+TEST_F(MeshReaders, WrlIndexedFaceSetsAreReadAsPymolWritesThem) {
+  const auto r = Load(Write("pymol.wrl", PymolStyleWrl(kWrlSquare, "0 1 2 -1,\n0 2 3 -1,\n")));
+  ASSERT_TRUE(r->ok) << r->error;
+  EXPECT_EQ(r->mesh.vn, 4);
+  ASSERT_EQ(r->mesh.fn, 2);
+  EXPECT_EQ(r->mesh.face[1].V(2), &r->mesh.vert[3]);
+  EXPECT_EQ(r->mesh.vert[2].P(), vcg::Point3d(1, 1, 0));
+  // Two shapes: the second set's indices are its own; a quad is a fan; the last -1 is optional;
+  // ccw FALSE reverses the polygons.
+  const std::string two =
+      PymolStyleWrl(kWrlSquare, "0 1 2 3") +
+      "Shape { geometry DEF second IndexedFaceSet {\n"
+      "ccw FALSE coord Coordinate { point [ 5 0 0, 6 0 0, 5 1 0 ] } coordIndex [ 0 1 2 -1 ] } }\n";
+  const auto s = Load(Write("two.wrl", two));
+  ASSERT_TRUE(s->ok) << s->error;
+  EXPECT_EQ(s->mesh.vn, 7);
+  ASSERT_EQ(s->mesh.fn, 3);
+  EXPECT_EQ(s->mesh.face[2].V(0), &s->mesh.vert[6]);
+  EXPECT_EQ(s->mesh.face[2].V(2), &s->mesh.vert[4]);
+  // PyMOL draws a ligand's sticks as Cylinders in moving Transforms: skipped, the surface is read.
+  const std::string sticks =
+      "#VRML V2.0 utf8\nTransform {\n translation -1.2 -5.5 -5.7\n rotation 0.7 0 0.6 1.4\n"
+      " children [ Shape { geometry Cylinder { radius 0.25 height 1.5 } } ]\n}\n";
+  const auto t = Load(Write("sticks.wrl", sticks + PymolStyleWrl(kWrlSquare, "0 1 2 -1").substr(16)));
+  ASSERT_TRUE(t->ok) << t->error;
+  EXPECT_EQ(t->mesh.fn, 1);
+}
+
+TEST_F(MeshReaders, WrlFilesItCannotPlaceOrIndexAreRefused) {
+  const std::string tri = "0 1 2 -1\n";
+  ExpectRefused(Write("v1.wrl", "#VRML V1.0 ascii\nSeparator { }\n"), "VRML 1.0 is not supported");
+  ExpectRefused(Write("plain.wrl", "Shape { }\n"), "not a VRML 2.0 file");
+  ExpectRefused(Write("moved.wrl", "#VRML V2.0 utf8\nTransform { translation 1 0 0 children [\n" +
+                                       PymolStyleWrl(kWrlSquare, tri).substr(16) + "] }\n"),
+                "a Transform translation is not supported");
+  ExpectRefused(
+      Write("use.wrl",
+            "#VRML V2.0 utf8\nShape { geometry IndexedFaceSet { coord USE c coordIndex [ 0 1 2 ] } }\n"),
+      "shared with USE");
+  ExpectRefused(Write("count.wrl", PymolStyleWrl("0 0 0, 1 0 0, 1 1\n", tri)),
+                "8 numbers, not a multiple of 3");
+  ExpectRefused(Write("range.wrl", PymolStyleWrl(kWrlSquare, "0 1 4 -1\n")), "coordIndex 4 is out of range");
+  ExpectRefused(Write("minus.wrl", PymolStyleWrl(kWrlSquare, "0 1 -2 -1\n")),
+                "coordIndex -2 is out of range");
+  ExpectRefused(Write("frac.wrl", PymolStyleWrl(kWrlSquare, "0 1 2.5 -1\n")), "bad number '2.5'");
+  ExpectRefused(Write("word.wrl", PymolStyleWrl("0 0 zero, 1 0 0, 1 1 0\n", tri)), "bad number 'zero'");
+  ExpectRefused(Write("two.wrl", PymolStyleWrl(kWrlSquare, "0 1 -1\n")), "2 corners");
+  ExpectRefused(
+      Write("nocoord.wrl", "#VRML V2.0 utf8\nShape { geometry IndexedFaceSet { coordIndex [ 0 1 2 ] } }\n"),
+      "coordIndex but no coord");
+  ExpectRefused(Write("none.wrl", "#VRML V2.0 utf8\nShape { geometry Sphere { radius 1 } }\n"),
+                "no IndexedFaceSet found");
+  const std::string whole = PymolStyleWrl(kWrlSquare, tri);
+  ExpectRefused(Write("cut.wrl", whole.substr(0, whole.find("coordIndex") + 16)),
+                "the file ends inside a list");
+  ExpectRefused(Write("open.wrl", whole.substr(0, whole.size() - 3)), "unbalanced braces");
+  ExpectRefused(Write("closer.wrl", whole + "]\n"), "unbalanced ']'");
 }
 
 // --- files that are not meshes -------------------------------------------------------------------

@@ -1,4 +1,5 @@
-// Reading and writing meshes for the CLI, tests and benchmarks (PLY ascii/binary, OFF, OBJ, STL).
+// Reading and writing meshes for the CLI, tests and benchmarks (PLY ascii/binary, OFF, OBJ, STL;
+// VRML 2.0 .wrl read only).
 //
 // Reading goes through our own validating readers (vcg_ext/io/*_reader.h), writing through
 // vcglib's exporters; every failure is one clear message instead of an error code, and STL's
@@ -16,6 +17,7 @@
 #include <vcg_ext/io/off_reader.h>
 #include <vcg_ext/io/ply_reader.h>
 #include <vcg_ext/io/stl_reader.h>
+#include <vcg_ext/io/wrl_reader.h>
 
 #include <algorithm>
 #include <cctype>
@@ -24,7 +26,7 @@
 
 namespace molremesh {
 
-enum class MeshFormat { Unknown, Ply, Off, Obj, Stl };
+enum class MeshFormat { Unknown, Ply, Off, Obj, Stl, Wrl };
 
 /// Format from the file name's extension (case-insensitive).
 inline MeshFormat FormatFromPath(const std::string& path) {
@@ -37,8 +39,12 @@ inline MeshFormat FormatFromPath(const std::string& path) {
   if (extension == "off") return MeshFormat::Off;
   if (extension == "obj") return MeshFormat::Obj;
   if (extension == "stl") return MeshFormat::Stl;
+  if (extension == "wrl") return MeshFormat::Wrl;
   return MeshFormat::Unknown;
 }
+
+/// The message for a file name whose extension names no format molremesh reads.
+constexpr const char* kReadableFormats = "unknown format (use .ply, .off, .obj, .stl or .wrl)";
 
 /// Parses bytes of the given format into raw (no file access: the fuzz targets call this too).
 inline bool ReadRawMesh(std::string_view bytes, MeshFormat format, RawMesh& raw, std::string& error) {
@@ -51,10 +57,12 @@ inline bool ReadRawMesh(std::string_view bytes, MeshFormat format, RawMesh& raw,
     return ObjReader::Read(bytes, raw, error);
   case MeshFormat::Stl:
     return StlReader::Read(bytes, raw, error);
+  case MeshFormat::Wrl:
+    return WrlReader::Read(bytes, raw, error);
   case MeshFormat::Unknown:
     break;
   }
-  error = "unknown format (use .ply, .off, .obj or .stl)";
+  error = kReadableFormats;
   return false;
 }
 
@@ -72,7 +80,7 @@ bool LoadMesh(MeshType& m, const std::string& path, std::string& error) {
   RawMesh raw;
   std::string why;
   if (format == MeshFormat::Unknown) {
-    why = "unknown format (use .ply, .off, .obj or .stl)";
+    why = kReadableFormats;
   } else if (ReadRegularFile(path, bytes, why) && ReadRawMesh(bytes, format, raw, why)) {
     bytes = std::string();
     BuildMeshFromRaw(m, raw);
@@ -116,6 +124,7 @@ bool SaveMesh(MeshType& m, const std::string& path, std::string& error, bool wit
     code = io::ExporterSTL<MeshType>::Save(m, path.c_str(), !ascii);
     message = io::ExporterSTL<MeshType>::ErrorMsg(code);
     break;
+  case MeshFormat::Wrl:
   case MeshFormat::Unknown:
     error = "cannot write '" + path + "': unknown format (use .ply, .off, .obj or .stl)";
     return false;
