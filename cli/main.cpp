@@ -242,6 +242,7 @@ struct RemeshOptions {
   double minComponentVolume = molremesh::CleanRawMesh<MeshD>::Params().minComponentVolume;
   int minComponentFaces = molremesh::CleanRawMesh<MeshD>::Params().minComponentFaces;
   bool noVolumetricFallback = !molremesh::CleanRawMesh<MeshD>::Params().volumetricFallback;
+  std::string nestedComponents = "auto";
   double memoryLimitMB = 0; // 0: the memory available when the run starts; < 0: no check
   std::string jsonPath;
   bool quiet = false;   ///< nothing but warnings and errors
@@ -332,6 +333,9 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.clean.minComponentVolume = options.minComponentVolume;
   params.clean.minComponentFaces = options.minComponentFaces;
   params.clean.volumetricFallback = !options.noVolumetricFallback;
+  params.clean.nestedComponents = options.nestedComponents == "union"    ? molremesh::NestedComponents::Union
+                                  : options.nestedComponents == "parity" ? molremesh::NestedComponents::Parity
+                                                                         : molremesh::NestedComponents::Auto;
   params.memoryLimitMB = options.memoryLimitMB;
   CheckMeshOutput(output);
   if (!options.jsonPath.empty()) CheckWritable(options.jsonPath, "the JSON file");
@@ -494,6 +498,14 @@ void AddCleanOptions(CLI::App* remesh, CommandLine& c) {
   remesh->add_flag("--no-volumetric-fallback", c.remesh.noVolumetricFallback,
                    "Clean: do not rebuild the surface from a volume when the local repairs leave defects "
                    "(the output may then be invalid, exit status 3)");
+  remesh
+      ->add_option(
+          "--nested-components", c.remesh.nestedComponents,
+          "Clean: how a closed component inside another is read: union (one oriented as the region "
+          "around it lies inside the body and is removed), parity (every odd-depth one is a cavity), "
+          "auto (union for a triangle soup whose sheets overlap, as PyMOL exports, else parity)")
+      ->default_val(c.remesh.nestedComponents)
+      ->check(CLI::IsMember({"auto", "union", "parity"}));
 }
 
 CLI::App* AddRemeshCommand(CLI::App& app, CommandLine& c) {

@@ -440,6 +440,7 @@ TEST(CleanRawMesh, CavityNormalsPointIntoTheCavity) {
     s.faces.push_back({f[0] + offset, f[1] + offset, f[2] + offset}); // outward: wrong for a cavity
   Clean::Params params;
   params.minComponentFraction = 0;
+  params.nestedComponents = molremesh::NestedComponents::Parity;
   for (const bool inward : {true, false}) {
     MeshD m;
     MakeMesh(m, s.points, s.faces);
@@ -544,15 +545,36 @@ Soup TwoSpheres(const Point& center, double innerRadius, bool invertInner, doubl
   return s;
 }
 
+// A nested sphere oriented against the shell is a cavity, read either way. One oriented as the
+// shell is, read by the union of what the pieces enclose, a piece inside it (removed, listed with
+// its volume), or, by nesting parity, a cavity; the default reads this indexed mesh, whose sheets
+// do not overlap, by parity (EDTSurf writes its cavities so).
 TEST(CleanRawMesh, CavityIsKeptByDefaultWithItsNormalsIntoTheVoid) {
   for (const bool invert : {true, false}) {
-    MeshD m;
     double cavityVolume = 0;
     const Soup s = TwoSpheres(Point(0.1, 0, 0), 0.3, invert, cavityVolume);
+    if (!invert) {
+      MeshD m;
+      MakeMesh(m, s.points, s.faces);
+      Clean::Params params;
+      params.nestedComponents = molremesh::NestedComponents::Union;
+      const auto r = Clean::Do(m, params);
+      ExpectValidResult(m, r);
+      EXPECT_EQ(r.removedInteriorComponents, 1u);
+      EXPECT_EQ(r.removedInteriorFaces, 20u);
+      ASSERT_EQ(r.keptComponents.size(), 1u);
+      ASSERT_EQ(r.removedComponents.size(), 1u);
+      EXPECT_NEAR(r.removedComponents[0].volume, cavityVolume, 1e-9);
+      EXPECT_NE(CleanRawMeshSummary(r).find("inside the union"), std::string::npos);
+      EXPECT_NEAR(r.reportAfter.volume, r.keptComponents[0].volume, 1e-9);
+    }
+    MeshD m;
     MakeMesh(m, s.points, s.faces);
-    const auto r = Clean::Do(m);
+    Clean::Params params;
+    if (invert) params.nestedComponents = molremesh::NestedComponents::Union;
+    const auto r = Clean::Do(m, params); // the default (parity) for the same-oriented sphere
     ExpectValidResult(m, r);
-    EXPECT_EQ(r.removedSmallComponents, 0u);
+    EXPECT_EQ(r.removedSmallComponents + r.removedInteriorComponents, 0u);
     EXPECT_EQ(std::size_t(m.fn), s.faces.size());
     ASSERT_EQ(r.keptComponents.size(), 2u);
     EXPECT_GT(r.keptComponents[0].volume, 0);                     // the outer shell, outward
@@ -564,6 +586,54 @@ TEST(CleanRawMesh, CavityIsKeptByDefaultWithItsNormalsIntoTheVoid) {
     EXPECT_EQ(r.flippedComponents, invert ? 0u : 1u);
     EXPECT_NE(CleanRawMeshSummary(r).find("kept components: 2 ("), std::string::npos);
   }
+}
+
+// A mesh that faces inward as a whole (marching cubes with the gradient reversed): its cavity is
+// oriented as its outer surface's opposite all the same, so it is kept; both are turned round.
+TEST(CleanRawMesh, CavityOfAWholeInwardMeshIsKeptAndBothAreTurned) {
+  double cavityVolume = 0;
+  Soup s = TwoSpheres(Point(0.1, 0, 0), 0.3, true, cavityVolume);
+  for (auto& f : s.faces) std::swap(f[1], f[2]);
+  for (const auto nested : {molremesh::NestedComponents::Union, molremesh::NestedComponents::Parity}) {
+    MeshD m;
+    MakeMesh(m, s.points, s.faces);
+    Clean::Params params;
+    params.nestedComponents = nested;
+    const auto r = Clean::Do(m, params);
+    ExpectValidResult(m, r);
+    EXPECT_EQ(r.removedInteriorComponents, 0u);
+    ASSERT_EQ(r.keptComponents.size(), 2u);
+    EXPECT_GT(r.keptComponents[0].volume, 0);
+    EXPECT_NEAR(r.keptComponents[1].volume, -cavityVolume, 1e-9);
+    EXPECT_EQ(r.flippedComponents, 2u);
+  }
+}
+
+// A triangle soup (one vertex copy per corner, as PyMOL's OBJ and WRL exports) whose sheets overlap
+// (here a fin on an edge of the shell) is read by the union by default: the sphere inside, oriented
+// as the shell, is a piece of the body and is removed.
+TEST(CleanRawMesh, OverlappingSoupIsReadByTheUnionAndItsInnerPieceRemoved) {
+  double innerVolume = 0;
+  const Soup indexed = TwoSpheres(Point(0.1, 0, 0), 0.3, false, innerVolume);
+  Soup s;
+  for (const auto& f : indexed.faces) {
+    const int base = int(s.points.size());
+    for (int k = 0; k < 3; ++k) s.points.push_back(indexed.points[f[k]]);
+    s.faces.push_back({base, base + 1, base + 2});
+  }
+  const auto& f0 = indexed.faces[0];
+  const Point a = indexed.points[f0[0]], b = indexed.points[f0[1]];
+  const int base = int(s.points.size());
+  s.points.insert(s.points.end(), {a, b, (a + b) * 0.5 * 1.2});
+  s.faces.push_back({base, base + 1, base + 2});
+  MeshD m;
+  MakeMesh(m, s.points, s.faces);
+  const auto r = Clean::Do(m);
+  ExpectValidResult(m, r);
+  EXPECT_GT(r.removedNonManifoldFaces, 0u);
+  EXPECT_EQ(r.removedInteriorComponents, 1u);
+  ASSERT_EQ(r.keptComponents.size(), 1u);
+  EXPECT_GT(r.keptComponents[0].volume, 0);
 }
 
 TEST(CleanRawMesh, SeparatePartsAreKeptByDefaultAndAnExplicitVolumeThresholdDropsTheSmallOne) {
@@ -861,7 +931,7 @@ void CheckRealMesh(const RealMesh& c, bool printRow) {
   for (const auto& p : Positions(m)) ASSERT_TRUE(inputPositions.count(p)) << "a vertex moved";
   const double areaChange = 100.0 * (r.reportAfter.area - r.reportBefore.area) / r.reportBefore.area;
   const double volumeChange = 100.0 * (r.reportAfter.volume - r.reportBefore.volume) / r.reportBefore.volume;
-  if (r.removedSmallComponents == 0 && r.flippedComponents == 0) {
+  if (r.removedSmallComponents == 0 && r.removedInteriorComponents == 0 && r.flippedComponents == 0) {
     EXPECT_LT(std::fabs(areaChange), c.maxAreaChange);
     EXPECT_LT(std::fabs(volumeChange), c.maxAreaChange);
   } else {
@@ -877,7 +947,7 @@ void CheckRealMesh(const RealMesh& c, bool printRow) {
   EXPECT_EQ(again.mergedVertices + again.removedDuplicateFaces + again.removedDegenerateFaces +
                 again.removedNonManifoldFaces + again.splitNonManifoldVertices +
                 again.flippedFacesForOrientation + again.closedHoles + again.removedSmallComponents +
-                again.repairedTangles,
+                again.removedInteriorComponents + again.repairedTangles,
             0u);
   if (printRow)
     std::printf(

@@ -8,6 +8,9 @@
 namespace molremesh {
 
 /// CleanRawMesh<MeshType>::Params: the cleaning's settings, with their defaults.
+/// How CleanRawMesh reads a closed component nested inside others (CleanRawMeshParams).
+enum class NestedComponents { Auto, Union, Parity };
+
 struct CleanRawMeshParams {
   double mergeTolerance = 1e-6; ///< merge vertices closer than this * mean edge length (0: exact copies only)
   double degenerateAreaEpsilon =
@@ -34,6 +37,12 @@ struct CleanRawMeshParams {
   bool volumetricFallback = true;   ///< rebuild the whole surface volumetrically when the local steps
                                     ///< leave a defect, then clean the rebuild (volumetric_fallback.h)
   bool orientCavitiesInward = true; ///< cavity components (nested in another closed one) get negative volume
+  /// How a closed component nested in others is read (step 11, orientation.h): Union removes one
+  /// oriented as the region around it (a piece inside the union, not a cavity); Parity makes every
+  /// odd-depth one a cavity whatever its orientation; Auto is Union for a triangle soup whose sheets
+  /// overlap (PyMOL's OBJ and WRL exports: cavities written inward, same-oriented pieces inside the
+  /// body) and Parity otherwise (EDTSurf, MSMS: every component written outward, cavities included).
+  NestedComponents nestedComponents = NestedComponents::Auto;
   bool measureSelfIntersections = true; ///< count self-intersecting faces before and after (grid accelerated)
   double maxFillDihedral = 150.0; ///< degrees; a fill triangle never folds more than this against a neighbour
   int threads = 0;                ///< worker threads of the tangle search and the before/after

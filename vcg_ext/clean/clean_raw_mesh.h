@@ -38,9 +38,10 @@
 //  10. non_manifold_vertices.h: split any vertex that is still non-manifold (next to an unfilled hole,
 //      or where two separate loops met at a vertex) and separate the copies as in step 7;
 //  11. orientation.h: orient every closed component outward: positive volume, except, with
-//      params.orientCavitiesInward, components nested inside an odd number of other components
-//      (cavities of a molecular surface), whose normals point into the cavity (negative volume), as
-//      PyMOL writes them;
+//      params.orientCavitiesInward, the cavities of a molecular surface, whose normals point into
+//      the cavity (negative volume). params.nestedComponents says how a nested component is read:
+//      by the union of what the pieces enclose (one oriented as the region around it lies inside
+//      it, as PyMOL leaves inside its SES, and is removed) or by the parity of its depth;
 //  12. delete vertices left without faces, compact the vectors, measure the result (MeshQuality).
 //  13. volumetric_fallback.h, with params.volumetricFallback: when a defect is left (a component that
 //      cannot be oriented, an unrepaired tangle, an unfilled hole, a boundary, non-manifold or
@@ -261,7 +262,12 @@ private:
 
     Progress(params, cb, 90, "Orienting closed components outward");
     flipped.resize(m.face.size(), 0);
-    r.flippedComponents = Orientation::OrientOutward(m, params.orientCavitiesInward, flipped); // step 11
+    const auto outward = Orientation::OrientOutward(m, params.orientCavitiesInward,
+                                                    ReadNestedAsUnion(params, r), flipped); // step 11
+    r.flippedComponents = outward.flippedComponents;
+    r.removedInteriorComponents = outward.interior.size();
+    r.removedInteriorFaces = outward.interiorFaces;
+    r.removedComponents.insert(r.removedComponents.end(), outward.interior.begin(), outward.interior.end());
     for (std::size_t f = 0; f < inputFaces && f < m.face.size(); ++f)
       if (!m.face[f].IsD() && flipped[f]) ++r.flippedFacesForOrientation;
 
@@ -317,6 +323,8 @@ private:
                                second.removedComponents.end());
     r.removedSmallComponents += second.removedSmallComponents;
     r.removedComponentFaces += second.removedComponentFaces;
+    r.removedInteriorComponents += second.removedInteriorComponents;
+    r.removedInteriorFaces += second.removedInteriorFaces;
     r.keptComponents = std::move(second.keptComponents);
     r.reportAfter = second.reportAfter;
   }
@@ -342,6 +350,16 @@ private:
     const SplitPairs made = clean::NonManifoldVertices<MeshType>::SplitNonManifoldVertices(m, onlyClosedFans);
     r.splitNonManifoldVertices += made.size();
     return made;
+  }
+
+  /// Whether step 11 reads nested components by the union of what the pieces enclose: asked for,
+  /// or, by default, for a triangle soup (most of its vertices merged in step 1) whose sheets
+  /// overlap (tangles or non-manifold edges to repair).
+  static bool ReadNestedAsUnion(const Params& params, const Result& r) {
+    if (params.nestedComponents != NestedComponents::Auto)
+      return params.nestedComponents == NestedComponents::Union;
+    const bool soup = r.mergedVertices > 0 && 2 * r.mergedVertices >= r.reportBefore.vertices;
+    return soup && r.repairedTangles + r.unrepairedTangles + r.removedNonManifoldFaces > 0;
   }
 
   /// The component policy (component_filter.h).

@@ -57,11 +57,13 @@ struct CleanRawMeshResult {
   std::size_t flippedComponents = 0;          ///< closed components turned outward (included above)
   std::size_t nonOrientableComponents = 0;    ///< components that cannot be oriented (left as they are)
   // Steps 6 and 8: components and self-intersections
-  std::size_t removedSmallComponents = 0; ///< components removed by the component policy (see
-                                          ///< component_filter.h: no enclosed volume, or below an opt-in
-                                          ///< threshold)
-  std::size_t removedComponentFaces = 0;  ///< their faces
-  std::vector<CleanComponent> removedComponents; ///< each of them, with its volume and reason
+  std::size_t removedSmallComponents = 0;    ///< components removed by the component policy (see
+                                             ///< component_filter.h: no enclosed volume, or below an opt-in
+                                             ///< threshold)
+  std::size_t removedComponentFaces = 0;     ///< their faces
+  std::size_t removedInteriorComponents = 0; ///< step 11: closed components inside the union, removed
+  std::size_t removedInteriorFaces = 0;      ///< their faces
+  std::vector<CleanComponent> removedComponents; ///< each removed one (policy or interior), volume and reason
   std::vector<CleanComponent> keptComponents;    ///< the components of the result, largest first
   std::size_t repairedTangles =
       0; ///< tangles (intersecting or incoherently oriented faces) removed and refilled

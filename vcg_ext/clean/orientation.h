@@ -19,6 +19,7 @@
 #include <vector>
 
 #include <vcg_ext/clean/clean_mesh_access.h>
+#include <vcg_ext/clean/clean_result.h>
 #include <vcg_ext/core/index.h>
 #include <vcg_ext/geometry/point.h>
 
@@ -101,86 +102,150 @@ public:
     return std::size_t(std::count(bad.begin(), bad.end(), 1));
   }
 
-  /// Turns every closed component outward: positive volume, except, with cavitiesInward, components
-  /// nested inside an odd number of other components (cavities of a molecular surface), whose
-  /// normals point into the cavity (negative volume), as PyMOL writes them. Returns the components
-  /// flipped.
-  static std::size_t OrientOutward(MeshType& m, bool cavitiesInward, std::vector<std::uint8_t>& flipped) {
-    std::size_t flippedComponents = 0;
+  /// What OrientOutward did.
+  struct OutwardResult {
+    std::size_t flippedComponents = 0;    ///< closed components whose orientation was reversed
+    std::vector<CleanComponent> interior; ///< components removed for lying inside the union
+    std::size_t interiorFaces = 0;        ///< their faces
+  };
+
+  /// Turns every closed component outward: positive volume, except, with cavitiesInward, the
+  /// cavities of a molecular surface, whose normals point into the void (negative volume).
+  /// A nested component's input orientation tells a cavity from an overlapping piece: the region
+  /// the surface bounds is the union of what its pieces enclose (winding number w >= 1, each
+  /// component counted with the sign of its input volume; the outermost ones positive, the whole
+  /// mesh reversed first when it faces inward). A component is on that region's boundary when w is
+  /// 0 on one side and at least 1 on the other: a cavity is oriented against its surroundings, an
+  /// island in a cavity with them. With removeInterior, a closed component with w >= 1 on both
+  /// sides (a piece oriented as its container, as PyMOL leaves inside its SES) is removed, and one
+  /// with w <= 0 on both sides too; without it, nested components are oriented by the parity of
+  /// their nesting depth whatever their input orientation.
+  static OutwardResult OrientOutward(MeshType& m, bool cavitiesInward, bool removeInterior,
+                                     std::vector<std::uint8_t>& flipped) {
+    OutwardResult result;
     std::vector<Index> label;
     std::vector<std::size_t> size;
     const std::size_t count = LabelComponents(m, label, size);
-    std::vector<std::vector<Index>> faces(count);
-    std::vector<std::uint8_t> closed(count, 1);
-    for (Index f = 0; f < m.face.size(); ++f) {
-      if (m.face[f].IsD()) continue;
-      faces[label[f]].push_back(f);
-      for (int e = 0; e < 3; ++e)
-        if (IsBorderEdge(m.face[f], e)) closed[label[f]] = 0;
-    }
-    std::vector<double> volume(count, 0);
-    std::vector<vcg::Box3d> box(count);
-    for (std::size_t c = 0; c < count; ++c) {
-      Point centroid(0, 0, 0);
-      std::size_t n = 0;
-      for (Index f : faces[c])
-        for (int k = 0; k < 3; ++k) {
-          centroid += PositionOf(&m.vert[VI(m, m.face[f], k)]);
-          box[c].Add(PositionOf(&m.vert[VI(m, m.face[f], k)]));
-          ++n;
-        }
-      centroid /= double(n);
-      for (Index f : faces[c]) {
-        const Tri t = FaceTri(m, m.face[f]);
-        volume[c] += (PositionOf(&m.vert[t[0]]) - centroid) *
-                     ((PositionOf(&m.vert[t[1]]) - centroid) ^ (PositionOf(&m.vert[t[2]]) - centroid)) / 6.0;
-      }
-    }
-    const std::array<Point, 5> directions{Point(0.5773, 0.5774, 0.5775), Point(-0.7071, 0.4082, 0.5774),
-                                          Point(0.1, -0.9, 0.4243), Point(-0.3, -0.2, -0.9327),
-                                          Point(0.8, 0.1, -0.5916)};
+    const Components c = Describe(m, label, count);
+    std::vector<std::vector<std::size_t>> containers(count);
+    if (cavitiesInward)
+      for (std::size_t k = 0; k < count; ++k)
+        if (c.closed[k] && c.volume[k] != 0) containers[k] = Containers(m, c, k);
+    // The orientation of the whole mesh: that of its outermost components' total volume.
+    double outermost = 0;
+    for (std::size_t k = 0; k < count; ++k)
+      if (c.closed[k] && containers[k].empty()) outermost += c.volume[k];
+    const double whole = outermost < 0 ? -1.0 : 1.0;
+    auto sign = [&](std::size_t k) { return containers[k].empty() ? 1 : (whole * c.volume[k] > 0 ? 1 : -1); };
+    std::vector<std::uint8_t> remove(count, 0);
     bool changed = false;
-    for (std::size_t c = 0; c < count; ++c) {
-      if (!closed[c] || volume[c] == 0) continue;
-      int depth = 0;
-      if (cavitiesInward) {
-        // A point on the component: the centroid of its largest face.
-        Index probe = faces[c].front();
-        double bestArea = -1;
-        for (Index f : faces[c]) {
-          const double a = FaceArea(m, m.face[f]);
-          if (a > bestArea) bestArea = a, probe = f;
+    for (std::size_t k = 0; k < count; ++k) {
+      if (!c.closed[k] || c.volume[k] == 0) continue;
+      int w = 0; // the winding number around k, from the other components
+      for (std::size_t d : containers[k]) w += sign(d);
+      bool wantPositive = containers[k].size() % 2 == 0;
+      if (removeInterior && !containers[k].empty()) {
+        if ((w >= 1) == (w + sign(k) >= 1)) {
+          remove[k] = 1;
+          continue;
         }
-        const Tri t = FaceTri(m, m.face[probe]);
-        const Point origin =
-            (PositionOf(&m.vert[t[0]]) + PositionOf(&m.vert[t[1]]) + PositionOf(&m.vert[t[2]])) / 3.0;
-        // Containers may be open (a hole left unfilled): the vote over several rays tolerates a ray
-        // escaping through a small hole.
-        for (std::size_t d = 0; d < count; ++d) {
-          if (d == c || !box[d].IsIn(box[c].min) || !box[d].IsIn(box[c].max)) continue;
-          int inside = 0, outside = 0;
-          for (const Point& dir : directions) {
-            bool ambiguous = false;
-            const bool in = RayParity(m, faces[d], origin, dir / dir.Norm(), ambiguous);
-            if (!ambiguous) (in ? inside : outside) += 1;
-          }
-          if (inside > outside) ++depth;
-        }
+        wantPositive = w <= 0;
       }
-      const bool wantPositive = depth % 2 == 0;
-      if ((volume[c] > 0) == wantPositive) continue;
-      for (Index f : faces[c]) {
+      if ((c.volume[k] > 0) == wantPositive) continue;
+      for (Index f : c.faces[k]) {
         std::swap(m.face[f].V(1), m.face[f].V(2));
         flipped[f] ^= 1;
       }
-      ++flippedComponents;
+      ++result.flippedComponents;
+      changed = true;
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      if (!remove[k]) continue;
+      CleanComponent removed;
+      removed.faces = c.faces[k].size();
+      removed.volume = c.volume[k];
+      removed.reason = "inside the union (oriented as the region around it)";
+      result.interior.push_back(removed);
+      result.interiorFaces += removed.faces;
+      for (Index f : c.faces[k]) DeleteFace(m, f);
       changed = true;
     }
     if (changed) RebuildTopology(m);
-    return flippedComponents;
+    return result;
   }
 
 private:
+  /// Per component: its faces, closed or not, signed volume about its centroid, bounding box.
+  struct Components {
+    std::vector<std::vector<Index>> faces;
+    std::vector<std::uint8_t> closed;
+    std::vector<double> volume;
+    std::vector<vcg::Box3d> box;
+  };
+
+  static Components Describe(const MeshType& m, const std::vector<Index>& label, std::size_t count) {
+    Components c;
+    c.faces.resize(count);
+    c.closed.assign(count, 1);
+    c.volume.assign(count, 0);
+    c.box.resize(count);
+    for (Index f = 0; f < m.face.size(); ++f) {
+      if (m.face[f].IsD()) continue;
+      c.faces[label[f]].push_back(f);
+      for (int e = 0; e < 3; ++e)
+        if (IsBorderEdge(m.face[f], e)) c.closed[label[f]] = 0;
+    }
+    for (std::size_t k = 0; k < count; ++k) {
+      Point centroid(0, 0, 0);
+      std::size_t n = 0;
+      for (Index f : c.faces[k])
+        for (int i = 0; i < 3; ++i) {
+          centroid += PositionOf(&m.vert[VI(m, m.face[f], i)]);
+          c.box[k].Add(PositionOf(&m.vert[VI(m, m.face[f], i)]));
+          ++n;
+        }
+      if (n > 0) centroid /= double(n);
+      for (Index f : c.faces[k]) {
+        const Tri t = FaceTri(m, m.face[f]);
+        c.volume[k] += (PositionOf(&m.vert[t[0]]) - centroid) *
+                       ((PositionOf(&m.vert[t[1]]) - centroid) ^ (PositionOf(&m.vert[t[2]]) - centroid)) /
+                       6.0;
+      }
+    }
+    return c;
+  }
+
+  /// The components that enclose component k: those whose box holds k's and inside which a point
+  /// of k (the centroid of its largest face) lies by a vote of rays. Containers may be open (a hole
+  /// left unfilled): the vote over several rays tolerates a ray escaping through a small hole.
+  static std::vector<std::size_t> Containers(const MeshType& m, const Components& c, std::size_t k) {
+    static const std::array<Point, 5> directions{Point(0.5773, 0.5774, 0.5775),
+                                                 Point(-0.7071, 0.4082, 0.5774), Point(0.1, -0.9, 0.4243),
+                                                 Point(-0.3, -0.2, -0.9327), Point(0.8, 0.1, -0.5916)};
+    Index probe = c.faces[k].front();
+    double bestArea = -1;
+    for (Index f : c.faces[k]) {
+      const double a = FaceArea(m, m.face[f]);
+      if (a > bestArea) bestArea = a, probe = f;
+    }
+    const Tri t = FaceTri(m, m.face[probe]);
+    const Point origin =
+        (PositionOf(&m.vert[t[0]]) + PositionOf(&m.vert[t[1]]) + PositionOf(&m.vert[t[2]])) / 3.0;
+    std::vector<std::size_t> out;
+    for (std::size_t d = 0; d < c.faces.size(); ++d) {
+      if (d == k || c.faces[d].empty() || !c.box[d].IsIn(c.box[k].min) || !c.box[d].IsIn(c.box[k].max))
+        continue;
+      int inside = 0, outside = 0;
+      for (const Point& dir : directions) {
+        bool ambiguous = false;
+        const bool in = RayParity(m, c.faces[d], origin, dir / dir.Norm(), ambiguous);
+        if (!ambiguous) (in ? inside : outside) += 1;
+      }
+      if (inside > outside) out.push_back(d);
+    }
+    return out;
+  }
+
   static bool Coherent(const FaceType& f, int e) {
     const FaceType* g = f.cFFp(e);
     const int ge = f.cFFi(e);

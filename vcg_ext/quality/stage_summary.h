@@ -67,6 +67,8 @@ inline std::string CleanRawMeshSummary(const CleanRawMeshResult& r) {
   line("non-orientable components", r.nonOrientableComponents);
   line("removed small components", r.removedSmallComponents);
   line("removed component faces", r.removedComponentFaces);
+  line("removed interior components", r.removedInteriorComponents);
+  line("removed interior component faces", r.removedInteriorFaces);
   line("repaired tangles", r.repairedTangles);
   line("unrepaired tangles", r.unrepairedTangles);
   line("tangle faces removed", r.tangleFacesRemoved);
