@@ -182,7 +182,7 @@ def remesh(tools, mesh, output, stages, timeout):
         row["verdict"] = data.get("verdict")
         row["tetgen"] = tools.tetgen_check(output, os.path.dirname(output))
     else:
-        row["error"] = r.why()
+        row["error"] = r.why().replace(os.path.dirname(mesh) + os.sep, "")  # no machine path in the table
     return row
 
 
