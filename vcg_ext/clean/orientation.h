@@ -19,7 +19,7 @@
 #include <vector>
 
 #include <vcg_ext/clean/clean_mesh_access.h>
-#include <vcg_ext/clean/clean_result.h>
+#include <vcg_ext/clean/component_filter.h>
 #include <vcg_ext/core/index.h>
 #include <vcg_ext/geometry/point.h>
 
@@ -130,17 +130,19 @@ public:
     std::vector<std::vector<std::size_t>> containers(count);
     if (cavitiesInward)
       for (std::size_t k = 0; k < count; ++k)
-        if (c.closed[k] && c.volume[k] != 0) containers[k] = Containers(m, c, k);
+        if (c.info[k].closed && c.info[k].volume != 0) containers[k] = Containers(m, c, k);
     // The orientation of the whole mesh: that of its outermost components' total volume.
     double outermost = 0;
     for (std::size_t k = 0; k < count; ++k)
-      if (c.closed[k] && containers[k].empty()) outermost += c.volume[k];
+      if (c.info[k].closed && containers[k].empty()) outermost += c.info[k].volume;
     const double whole = outermost < 0 ? -1.0 : 1.0;
-    auto sign = [&](std::size_t k) { return containers[k].empty() ? 1 : (whole * c.volume[k] > 0 ? 1 : -1); };
+    auto sign = [&](std::size_t k) {
+      return containers[k].empty() ? 1 : (whole * c.info[k].volume > 0 ? 1 : -1);
+    };
     std::vector<std::uint8_t> remove(count, 0);
     bool changed = false;
     for (std::size_t k = 0; k < count; ++k) {
-      if (!c.closed[k] || c.volume[k] == 0) continue;
+      if (!c.info[k].closed || c.info[k].volume == 0) continue;
       int w = 0; // the winding number around k, from the other components
       for (std::size_t d : containers[k]) w += sign(d);
       bool wantPositive = containers[k].size() % 2 == 0;
@@ -151,7 +153,7 @@ public:
         }
         wantPositive = w <= 0;
       }
-      if ((c.volume[k] > 0) == wantPositive) continue;
+      if ((c.info[k].volume > 0) == wantPositive) continue;
       for (Index f : c.faces[k]) {
         std::swap(m.face[f].V(1), m.face[f].V(2));
         flipped[f] ^= 1;
@@ -161,9 +163,7 @@ public:
     }
     for (std::size_t k = 0; k < count; ++k) {
       if (!remove[k]) continue;
-      CleanComponent removed;
-      removed.faces = c.faces[k].size();
-      removed.volume = c.volume[k];
+      CleanComponent removed = c.info[k];
       removed.reason = "inside the union (oriented as the region around it)";
       result.interior.push_back(removed);
       result.interiorFaces += removed.faces;
@@ -175,43 +175,24 @@ public:
   }
 
 private:
-  /// Per component: its faces, closed or not, signed volume about its centroid, bounding box.
+  /// Per component: its faces and bounding box, and DescribeComponents' record (closed or not,
+  /// signed volume about its centroid).
   struct Components {
     std::vector<std::vector<Index>> faces;
-    std::vector<std::uint8_t> closed;
-    std::vector<double> volume;
     std::vector<vcg::Box3d> box;
+    std::vector<CleanComponent> info;
   };
 
   static Components Describe(const MeshType& m, const std::vector<Index>& label, std::size_t count) {
     Components c;
     c.faces.resize(count);
-    c.closed.assign(count, 1);
-    c.volume.assign(count, 0);
     c.box.resize(count);
     for (Index f = 0; f < m.face.size(); ++f) {
       if (m.face[f].IsD()) continue;
       c.faces[label[f]].push_back(f);
-      for (int e = 0; e < 3; ++e)
-        if (IsBorderEdge(m.face[f], e)) c.closed[label[f]] = 0;
+      for (int i = 0; i < 3; ++i) c.box[label[f]].Add(PositionOf(&m.vert[VI(m, m.face[f], i)]));
     }
-    for (std::size_t k = 0; k < count; ++k) {
-      Point centroid(0, 0, 0);
-      std::size_t n = 0;
-      for (Index f : c.faces[k])
-        for (int i = 0; i < 3; ++i) {
-          centroid += PositionOf(&m.vert[VI(m, m.face[f], i)]);
-          c.box[k].Add(PositionOf(&m.vert[VI(m, m.face[f], i)]));
-          ++n;
-        }
-      if (n > 0) centroid /= double(n);
-      for (Index f : c.faces[k]) {
-        const Tri t = FaceTri(m, m.face[f]);
-        c.volume[k] += (PositionOf(&m.vert[t[0]]) - centroid) *
-                       ((PositionOf(&m.vert[t[1]]) - centroid) ^ (PositionOf(&m.vert[t[2]]) - centroid)) /
-                       6.0;
-      }
-    }
+    c.info = DescribeComponents(m, label, count);
     return c;
   }
 
