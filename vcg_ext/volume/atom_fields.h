@@ -27,6 +27,13 @@
 
 namespace molremesh {
 
+/// The largest atom radius (0 for no atoms): the reach of a cell grid's neighbourhood queries.
+inline double MaxAtomRadius(const std::vector<Atom>& atoms) {
+  double r = 0;
+  for (const Atom& a : atoms) r = std::max(r, a.radius);
+  return r;
+}
+
 /// Atoms bucketed in cubic cells of a given size, for "atoms near x" queries (the 27 cells around).
 class AtomCells {
 public:
@@ -65,7 +72,7 @@ private:
 class BallUnionDistance {
 public:
   BallUnionDistance(const std::vector<Atom>& atoms, double grow, double reach)
-      : grow_(grow), cells_(atoms, MaxRadius(atoms) + grow + reach) {}
+      : grow_(grow), cells_(atoms, MaxAtomRadius(atoms) + grow + reach) {}
   /// Value at x, and its gradient (the unit direction from the nearest ball's centre).
   double operator()(const Point& x, Point& gradient) const {
     double best = 1e300;
@@ -82,11 +89,6 @@ public:
   }
 
 private:
-  static double MaxRadius(const std::vector<Atom>& atoms) {
-    double r = 0;
-    for (const Atom& a : atoms) r = std::max(r, a.radius);
-    return r;
-  }
   double grow_;
   AtomCells cells_;
 };
@@ -96,7 +98,8 @@ private:
 class GaussianDensity {
 public:
   GaussianDensity(const std::vector<Atom>& atoms, double decay, double reachInRadii)
-      : decay_(decay), reach2_(reachInRadii * reachInRadii), cells_(atoms, MaxRadius(atoms) * reachInRadii) {}
+      : decay_(decay), reach2_(reachInRadii * reachInRadii),
+        cells_(atoms, MaxAtomRadius(atoms) * reachInRadii) {}
   double operator()(const Point& x, Point& gradient) const {
     double sum = 0;
     gradient = Point(0, 0, 0);
@@ -112,11 +115,6 @@ public:
   }
 
 private:
-  static double MaxRadius(const std::vector<Atom>& atoms) {
-    double r = 0;
-    for (const Atom& a : atoms) r = std::max(r, a.radius);
-    return r;
-  }
   double decay_, reach2_;
   AtomCells cells_;
 };

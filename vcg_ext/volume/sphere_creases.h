@@ -100,7 +100,7 @@ private:
 
   struct Refinement {
     Refinement(const std::vector<Atom>& a, double g, const Params& params, const PointSet& no)
-        : atoms(a), grow(g), p(params), refused(no), cells(a, MaxRadius(a) + g + 1.0), balls(a, g, 1.0) {}
+        : atoms(a), grow(g), p(params), refused(no), cells(a, MaxAtomRadius(a) + g + 1.0), balls(a, g, 1.0) {}
 
     void Load(const MeshType& m) {
       points.resize(m.vert.size());
@@ -442,12 +442,6 @@ private:
 
     Point Normal(const Triangle& t) const {
       return (points[t[1]] - points[t[0]]) ^ (points[t[2]] - points[t[0]]);
-    }
-
-    static double MaxRadius(const std::vector<Atom>& atoms) {
-      double r = 0;
-      for (const Atom& a : atoms) r = std::max(r, a.radius);
-      return r;
     }
 
     const std::vector<Atom>& atoms;
