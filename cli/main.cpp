@@ -39,7 +39,6 @@
 #include <vcg_ext/pipeline/region_remeshing.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>
 #include <vcg_ext/quality/stage_summary.h>
-#include <vcg_ext/spatial/self_intersections.h>
 
 #include "report_json.h"
 #include "surface_command.h"
@@ -147,35 +146,6 @@ void LoadValidMesh(MeshD& mesh, const std::string& path) {
   if (!check.ok) throw InputError("'" + path + "': " + check.message);
 }
 
-/// "" when the self-intersection count of `mesh` fits in the memory budget, else why not: its
-/// found pairs are bounded only by the candidate pairs, which grow with the square of the face
-/// count on overlapping polygon soups.
-std::string SelfIntersectionBudget(const MeshD& mesh, double memoryLimitMB, int threads) {
-  if (memoryLimitMB < 0) return {};
-  std::vector<std::array<molremesh::Index, 3>> tris;
-  tris.reserve(mesh.face.size());
-  std::vector<double> edges;
-  edges.reserve(3 * mesh.face.size());
-  for (const auto& f : mesh.face) {
-    if (f.IsD()) continue;
-    tris.push_back({molremesh::Index(vcg::tri::Index(mesh, f.cV(0))),
-                    molremesh::Index(vcg::tri::Index(mesh, f.cV(1))),
-                    molremesh::Index(vcg::tri::Index(mesh, f.cV(2)))});
-    for (int k = 0; k < 3; ++k) edges.push_back(vcg::Distance(f.cP(k), f.cP((k + 1) % 3)));
-  }
-  std::vector<molremesh::Point> points;
-  points.reserve(mesh.vert.size());
-  for (const auto& v : mesh.vert) points.push_back(molremesh::ToPoint(v.cP()));
-  double median = 0;
-  if (!edges.empty()) {
-    std::nth_element(edges.begin(), edges.begin() + std::ptrdiff_t(edges.size() / 2), edges.end());
-    median = edges[edges.size() / 2];
-  }
-  const double pairs = molremesh::CandidatePairBound(tris, points, median, threads);
-  using Budget = molremesh::MemoryBudget;
-  return Budget::CheckReport(Budget::EstimateReport(tris.size(), points.size(), pairs), memoryLimitMB);
-}
-
 int RunReport(const std::string& input, bool json, bool skipSelfIntersections, int threads,
               double memoryLimitMB) {
   MeshD mesh;
@@ -183,15 +153,13 @@ int RunReport(const std::string& input, bool json, bool skipSelfIntersections, i
   molremesh::MeshQuality<MeshD>::Params params;
   params.computeSelfIntersections = !skipSelfIntersections;
   params.threads = threads;
-  if (params.computeSelfIntersections) {
-    const std::string refused = SelfIntersectionBudget(mesh, memoryLimitMB, threads);
-    if (!refused.empty()) {
-      std::cerr << "molremesh: warning: " << refused
-                << ": not counted (--memory-limit MB sets the limit, -1 turns the check off)\n";
-      params.computeSelfIntersections = false;
-    }
-  }
+  params.memoryLimitMB = memoryLimitMB;
   const molremesh::QualityReport report = molremesh::MeshQuality<MeshD>::Compute(mesh, params);
+  if (!report.selfIntersectionsSkipped.empty())
+    std::cerr << "molremesh: warning: " << report.selfIntersectionsSkipped << ": not counted"
+              << (report.selfIntersectionsSkippedForMemory
+                      ? " (--memory-limit MB sets the limit, -1 turns the check off)\n"
+                      : "\n");
   if (json) {
     nlohmann::json out = molremesh::ToJson(report);
     out["file"] = input;

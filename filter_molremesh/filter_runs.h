@@ -108,6 +108,8 @@ QualityReport RunQualityReport(const Mesh& m, const ParameterValues& values, con
   log.info("Molecular Remesh quality report of " + meshName);
   log.Text(FormatQualityTable(report, "value"));
   log.info("valence histogram (interior vertices): " + FormatValenceHistogram(report));
+  if (!report.selfIntersectionsSkipped.empty())
+    log.warning(report.selfIntersectionsSkipped + ": self-intersections not counted");
   return report;
 }
 

@@ -8,8 +8,9 @@ lie about counts (negative, huge, off by one), wrong property types, face lists 
 out-of-range and negative indices, NaN/Inf/1e38 coordinates, degenerate and non-manifold geometry,
 OBJ polygons and odd index forms, OFF comments and header variants, ascii/binary STL with wrong counts
 or missing keywords, VRML 2.0 files (truncated, bad indices, transforms, VRML 1.0, unbalanced
-braces), empty and whitespace-only files, and random byte flips and token swaps of valid files. Every file is under 1 MB; the same seed gives the same bytes. Nothing is written outside
-OUTPUT_DIR, which must not be inside the repository.
+braces), soups of large overlapping polygons, empty and whitespace-only files, and random byte flips
+and token swaps of valid files. Every file is under 1 MB; the same seed gives the same bytes. Nothing
+is written outside OUTPUT_DIR, which must not be inside the repository.
 """
 import argparse
 import math
@@ -305,6 +306,13 @@ def make(c, copies):
         ring = [(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n), 0.0) for k in range(n)]
         c.add("objpolygon_%d.obj" % n, obj_text(ring, [tuple(range(n))]))
         c.add("offpolygon_%d.off" % n, off_text(ring, [tuple(range(n))]))
+    # Soups of large overlapping polygons: every face near every other (quadratic pair searches).
+    cloud = [(rng.uniform(-10, 10), rng.uniform(-10, 10), rng.uniform(-10, 10)) for _ in range(2000)]
+    for sides, count in [(255, 320), (100, 400), (30, 2000)]:
+        polygons = [tuple(rng.sample(range(len(cloud)), sides)) for _ in range(count)]
+        c.add("polygonsoup_%dx%d_bin.ply" % (count, sides), ply_binary(cloud, polygons, list_types=("uchar", "int")))
+    c.add("polygonsoup_obj_100x100.obj", obj_text(cloud, [tuple(rng.sample(range(len(cloud)), 100))
+                                                          for _ in range(100)]))
     star = [((1 + (k % 2)) * math.cos(k * math.pi / 5), (1 + (k % 2)) * math.sin(k * math.pi / 5), 0.0)
             for k in range(10)]
     c.add("objpolygon_concave.obj", obj_text(star, [tuple(range(10))]))

@@ -12,11 +12,14 @@
 
 #include <vcg/complex/algorithms/create/platonic.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <numeric>
+#include <random>
 #include <set>
 #include <string>
 #include <tuple>
@@ -855,6 +858,25 @@ TEST(CleanRawMesh, RefusesAllDegenerateMeshesAndBadParameters) {
   params = Clean::Params();
   params.maxHoleEdges = -3;
   ExpectRefusedUnchanged(sphere, "maxHoleEdges", params);
+}
+
+// 320 random 255-gons over 2000 random points (a 350 KB PLY): 3.3e9 candidate pairs of faces for
+// the tangle search, which ran for hours and tens of GB; refused at once, nothing changed.
+TEST(CleanRawMesh, RefusesASoupOfOverlappingPolygonsBeyondRepair) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> coordinate(-10, 10);
+  std::vector<Point> points(2000);
+  for (Point& p : points) p = Point(coordinate(rng), coordinate(rng), coordinate(rng));
+  std::vector<int> order(points.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<std::array<int, 3>> faces;
+  for (int polygon = 0; polygon < 320; ++polygon) {
+    std::shuffle(order.begin(), order.end(), rng);
+    for (int k = 1; k + 1 < 255; ++k) faces.push_back({order[0], order[k], order[k + 1]}); // a fan
+  }
+  MeshD soup;
+  MakeMesh(soup, points, faces);
+  ExpectRefusedUnchanged(soup, "the faces overlap beyond repair");
 }
 
 // ------------------------------------------------------------------------------------------------

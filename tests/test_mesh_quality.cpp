@@ -530,6 +530,52 @@ TEST(MeshQuality, CrossingTrianglesSharingNoVertex) {
   EXPECT_EQ(skipped.selfIntersectingPairs, 0u);
 }
 
+/// n long triangles through one point: every face shares the grid cells around it with every
+/// other, so the self-intersection count's candidate pairs grow as n^2.
+void MakeStarSoup(MeshD& m, int n) {
+  std::vector<Point> points;
+  std::vector<std::array<int, 3>> faces;
+  for (int i = 0; i < n; ++i) {
+    const double a = 3.14159265358979 * i / n, c = std::cos(a), s = std::sin(a);
+    points.insert(points.end(), {Point(c, s, -0.1), Point(-c, -s, 0.1), Point(0.01 * s, 0.01 * c, 1)});
+    faces.push_back({3 * i, 3 * i + 1, 3 * i + 2});
+  }
+  MakeMesh(m, points, faces);
+}
+
+TEST(MeshQuality, SelfIntersectionCountIsSkippedBeyondItsBoundsWithTheReason) {
+  MeshD m;
+  MakeStarSoup(m, 4600); // over 4600^2 / 2 = 1.06e7 candidate pairs
+  Quality::Params work;
+  work.maxCandidatePairsPerFace = 0; // the bound is 10^7 pairs
+  work.memoryLimitMB = -1;
+  const auto overWork = Quality::Compute(m, work);
+  EXPECT_FALSE(overWork.selfIntersectionsComputed);
+  EXPECT_FALSE(overWork.selfIntersectionsSkippedForMemory);
+  EXPECT_NE(
+      overWork.selfIntersectionsSkipped.find("candidate pairs (4600 faces), more than its bound of 10000000"),
+      std::string::npos)
+      << overWork.selfIntersectionsSkipped;
+  EXPECT_EQ(overWork.faces, 4600u); // the linear figures are all there
+  EXPECT_GT(overWork.area, 0.0);
+
+  Quality::Params memory;
+  memory.maxCandidatePairsPerFace = -1;
+  memory.memoryLimitMB = 100;
+  const auto overMemory = Quality::Compute(m, memory);
+  EXPECT_FALSE(overMemory.selfIntersectionsComputed);
+  EXPECT_TRUE(overMemory.selfIntersectionsSkippedForMemory);
+  EXPECT_NE(overMemory.selfIntersectionsSkipped.find("more than the 100 MB memory limit"), std::string::npos)
+      << overMemory.selfIntersectionsSkipped;
+
+  MeshD small;
+  MakeStarSoup(small, 1000);
+  const auto counted = Quality::Compute(small); // default bounds: 1.1e7 pairs allowed
+  EXPECT_TRUE(counted.selfIntersectionsComputed) << counted.selfIntersectionsSkipped;
+  EXPECT_TRUE(counted.selfIntersectionsSkipped.empty());
+  EXPECT_GT(counted.selfIntersectingPairs, 1000u);
+}
+
 TEST(MeshQuality, DisjointTriangles) {
   MeshD m;
   MakeMesh(m, {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 0.5}, {1, 0, 0.5}, {0, 1, 0.5}},

@@ -73,7 +73,13 @@ private:
   /// traversal met itself around that one defect. Returns whether anything was repaired.
   static bool RepairPass(MeshType& m, CleanRunState& run, bool intersections,
                          const Conflicts& orientationConflicts, TangleRepairCounts& r) {
-    const std::vector<std::vector<Index>> regions = FindRegions(m, run, intersections, orientationConflicts);
+    bool searched = true;
+    const std::vector<std::vector<Index>> regions =
+        FindRegions(m, run, intersections, orientationConflicts, searched);
+    if (!searched) { // too tangled to look for the pairs: one tangle left, for the fallback
+      ++r.unrepaired;
+      return false;
+    }
     std::size_t repaired = 0;
     // The repairs' face grid, built once there is something to repair (from the faces as they are
     // now: nothing above has edited them).
@@ -98,10 +104,13 @@ private:
 
   /// Regions to repair: faces of intersecting pairs (when `intersections`) and faces on both sides
   /// of an orientation conflict, grouped through those pairs and through shared edges; smallest
-  /// first, ties in the order of their smallest face.
+  /// first, ties in the order of their smallest face. `searched` is false when the intersecting
+  /// pairs were not searched: more candidate pairs than CandidatePairBound (a soup of
+  /// overlapping polygons, far beyond local repair).
   static std::vector<std::vector<Index>> FindRegions(const MeshType& m, const CleanRunState& run,
                                                      bool intersections,
-                                                     const Conflicts& orientationConflicts) {
+                                                     const Conflicts& orientationConflicts, bool& searched) {
+    searched = true;
     const double meanEdge = run.meanEdge;
     const CleanRawMeshParams& params = run.params;
     // Intersecting pairs, grouped into regions (union-find over faces).
@@ -125,9 +134,10 @@ private:
       }
       std::vector<Point> points(m.vert.size());
       for (Index v = 0; v < m.vert.size(); ++v) points[v] = PositionOf(&m.vert[v]);
-      const auto pairs =
-          FindSelfIntersections(tris, points, meanEdge, ResolveThreadCount(params.threads), true);
-      for (const IntersectingPair& pair : pairs) {
+      const SelfIntersectionSearch search = FindSelfIntersectionsWithin(
+          tris, points, meanEdge, ResolveThreadCount(params.threads), CandidatePairBound(tris.size()), true);
+      searched = search.searched;
+      for (const IntersectingPair& pair : search.pairs) {
         const Index f = faceOf[pair.i], g = faceOf[pair.j];
         involved[f] = involved[g] = 1;
         const Index a = find(f), b = find(g);

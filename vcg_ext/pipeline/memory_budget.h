@@ -21,12 +21,6 @@
 // estimate: a run just under the limit may still need more, one just over may fit; a limit < 0
 // turns the check off.
 //
-// The quality report is linear in the mesh but for its self-intersection count, whose found pairs
-// are bounded only by the candidate pairs of its grid: 22 to 32 per face on the shared meshes, but
-// the square of the face count on a soup of overlapping polygons (a 329 KB file of 255-gons: 18.7 GB).
-// MemoryBudget::EstimateReport charges every candidate pair as found, an upper bound, so that the
-// count is skipped only where it might not fit (4JSV: 882 MB estimated). Measured peak of `report`
-// (2 threads): 4JSV 274 MB, 1HPV 196 MB, lysozyme 12 MB; without the count 147, 109 and 9 MB.
 #pragma once
 
 #include <vcg_ext/core/available_memory.h>
@@ -78,34 +72,6 @@ public:
     e.bytes =
         kBaseBytes + kBytesPerFace * std::max(e.facesIn, e.facesOut) + kBytesPerInputVertex * e.verticesIn;
     return e;
-  }
-
-  static constexpr double kReportBytesPerFace = 600.0;   ///< report: the mesh, its figures and grid
-  static constexpr double kBytesPerCandidatePair = 36.0; ///< a found pair, in per-thread lists and gathered
-
-  /// Peak of a quality report on a mesh of `faces` faces and `vertices` vertices whose
-  /// self-intersection count tests `candidatePairs` pairs (0 when it is not computed).
-  static MemoryEstimate EstimateReport(std::size_t faces, std::size_t vertices, double candidatePairs) {
-    MemoryEstimate e;
-    e.facesIn = double(faces);
-    e.verticesIn = double(vertices);
-    e.candidatePairs = candidatePairs;
-    e.bytes = kBaseBytes + kReportBytesPerFace * e.facesIn + kBytesPerInputVertex * e.verticesIn +
-              kBytesPerCandidatePair * candidatePairs;
-    return e;
-  }
-
-  /// "" when the report fits under limitMB (0 = the available memory, < 0 = no check), else why not.
-  static std::string CheckReport(const MemoryEstimate& e, double limitMB) {
-    const double limit = LimitBytes(limitMB);
-    if (!(limit > 0) || e.bytes <= limit) return {};
-    std::ostringstream s;
-    s.setf(std::ios::fixed);
-    s.precision(0);
-    s << "the self-intersection count would need up to " << Megabytes(e.bytes) << " MB of memory ("
-      << e.facesIn << " faces, " << e.candidatePairs << " candidate pairs), more than the "
-      << Megabytes(limit) << " MB " << (limitMB > 0 ? "memory limit" : "of memory available");
-    return s.str();
   }
 
   /// Bytes this process may still allocate (see AvailableMemoryBytes).

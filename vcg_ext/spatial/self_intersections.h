@@ -233,6 +233,21 @@ inline void TestCells(const std::vector<std::pair<std::uint64_t, Index>>& cellFa
   ParallelFor(cellStart.size() - 1, threads, testCells, 256); // cells hold few faces: smaller blocks
 }
 
+/// Pairs TestOversized and TestCells would look at: every oversized face against every face, and
+/// the pairs of each cell's faces (a pair sharing several cells counted in each).
+inline double CandidatePairs(const FaceCells& cells,
+                             const std::vector<std::pair<std::uint64_t, Index>>& cellFaces) {
+  double pairs = double(cells.oversized.size()) * double(cells.cellCount.size());
+  for (std::size_t begin = 0; begin < cellFaces.size();) {
+    std::size_t end = begin + 1;
+    while (end < cellFaces.size() && cellFaces[end].first == cellFaces[begin].first) ++end;
+    const double k = double(end - begin);
+    pairs += k * (k - 1) / 2;
+    begin = end;
+  }
+  return pairs;
+}
+
 } // namespace self_intersection_detail
 
 /// All intersecting pairs among the given (finite) triangles, in no particular order: pairs
@@ -267,22 +282,62 @@ inline std::vector<vcg::Box3d> FaceBoxes(const std::vector<std::array<Index, 3>>
   return boxes;
 }
 
+/// The broad phase of a search: boxes, grid cells and the faces of each cell, and the number of
+/// candidate pairs the exact test would then run on.
+struct BroadPhase {
+  vcg::Box3d all;
+  std::vector<vcg::Box3d> boxes;
+  FaceCells cells;
+  std::vector<std::pair<std::uint64_t, Index>> cellFaces;
+  double candidatePairs = 0;
+
+  BroadPhase(const std::vector<std::array<Index, 3>>& tris, const std::vector<Point>& points,
+             double medianEdge, int threads)
+      : boxes(FaceBoxes(tris, points, threads, all)), cells(AssignCells(boxes, all, medianEdge, threads)),
+        cellFaces(SortedCellEntries(cells, all, threads)), candidatePairs(CandidatePairs(cells, cellFaces)) {}
+};
+
 } // namespace self_intersection_detail
 
-inline std::vector<IntersectingPair> FindSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
-                                                           const std::vector<Point>& points,
-                                                           double medianEdge, int threads,
-                                                           bool duplicatesIntersect = false) {
+/// The default bound of FindSelfIntersectionsWithin for n triangles: 10^7 candidate pairs plus
+/// 1000 per triangle (molecular meshes have 22 to 43 per triangle; 10^8 pairs test in seconds).
+constexpr double kMinCandidatePairBound = 1e7;
+constexpr double kCandidatePairsPerTriangleBound = 1000;
+inline double CandidatePairBound(std::size_t n, double perTriangle = kCandidatePairsPerTriangleBound) {
+  return kMinCandidatePairBound + perTriangle * double(n);
+}
+
+/// What FindSelfIntersectionsWithin found: every intersecting pair, or none when the candidate
+/// pairs of the broad phase exceed the caller's bound (then `searched` is false).
+struct SelfIntersectionSearch {
+  bool searched = false;
+  double candidatePairs = 0; ///< pairs the exact test would run on (an upper bound: see below)
+  std::vector<IntersectingPair> pairs;
+};
+
+/// FindSelfIntersections, but only when at most maxCandidatePairs pairs would be tested: the pairs
+/// of faces sharing a cell (a pair sharing several cells counted in each) plus every oversized
+/// face against every face. They are 22 to 43 per face on molecular meshes, and grow with the
+/// square of the face count on a soup of overlapping polygons, where the test would run for
+/// hours and its list of found pairs outgrow the memory. The count is known once the faces are
+/// sorted into cells, before any pair is tested, so a refusal costs linear work and memory.
+inline SelfIntersectionSearch FindSelfIntersectionsWithin(const std::vector<std::array<Index, 3>>& tris,
+                                                          const std::vector<Point>& points, double medianEdge,
+                                                          int threads, double maxCandidatePairs,
+                                                          bool duplicatesIntersect = false) {
   using namespace self_intersection_detail;
-  std::vector<IntersectingPair> result;
+  SelfIntersectionSearch search;
   const std::size_t n = tris.size();
-  if (n < 2) return result;
+  search.searched = true;
+  if (n < 2) return search;
   threads = ResolveThreadCount(threads);
 
-  vcg::Box3d all;
-  const std::vector<vcg::Box3d> boxes = FaceBoxes(tris, points, threads, all);
-  const FaceCells cells = AssignCells(boxes, all, medianEdge, threads);
-
+  const BroadPhase broad(tris, points, medianEdge, threads);
+  search.candidatePairs = broad.candidatePairs;
+  if (search.candidatePairs > maxCandidatePairs) {
+    search.searched = false;
+    return search;
+  }
   std::vector<PlanarTriangle> planar(n);
   ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
     for (std::size_t i = begin; i < end; ++i)
@@ -290,53 +345,40 @@ inline std::vector<IntersectingPair> FindSelfIntersections(const std::vector<std
   });
 
   // Intersecting pairs found by each thread, gathered in thread order.
-  const PairTest test{tris, boxes, planar, duplicatesIntersect};
+  const PairTest test{tris, broad.boxes, planar, duplicatesIntersect};
   std::vector<std::vector<IntersectingPair>> hits(static_cast<std::size_t>(threads));
-  TestOversized(cells, test, threads, hits);
-  TestCells(SortedCellEntries(cells, all, threads), cells, test, threads, hits);
+  TestOversized(broad.cells, test, threads, hits);
+  TestCells(broad.cellFaces, broad.cells, test, threads, hits);
 
   for (const std::vector<IntersectingPair>& list : hits)
-    result.insert(result.end(), list.begin(), list.end());
-  return result;
+    search.pairs.insert(search.pairs.end(), list.begin(), list.end());
+  return search;
 }
 
-/// Pairs of triangles FindSelfIntersections would test exactly, bounded from above in linear
-/// memory (cell runs are counted, not paired): the pairs of faces sharing a cell, with a pair that
-/// shares several cells counted in each, plus every oversized face against every face. On
-/// the shared molecular meshes it is 22 to 32 per face; on a soup of overlapping polygons it grows
-/// with the square of the face count, and so may the pairs found, which the caller must budget.
-inline double CandidatePairBound(const std::vector<std::array<Index, 3>>& tris,
-                                 const std::vector<Point>& points, double medianEdge, int threads) {
-  using namespace self_intersection_detail;
-  const std::size_t n = tris.size();
-  if (n < 2) return 0;
-  vcg::Box3d all;
-  const std::vector<vcg::Box3d> boxes = FaceBoxes(tris, points, threads, all);
-  const FaceCells cells = AssignCells(boxes, all, medianEdge, threads);
-  std::vector<std::uint64_t> keys;
-  keys.reserve(cells.entries);
-  for (std::size_t i = 0; i < n; ++i)
-    if (cells.cellCount[i] != 0) cells.ForEachCell(i, [&](std::uint64_t key) { keys.push_back(key); });
-  std::sort(keys.begin(), keys.end());
-  double pairs = double(cells.oversized.size()) * double(n);
-  for (std::size_t begin = 0; begin < keys.size();) {
-    std::size_t end = begin + 1;
-    while (end < keys.size() && keys[end] == keys[begin]) ++end;
-    const double k = double(end - begin);
-    pairs += k * (k - 1) / 2;
-    begin = end;
-  }
-  return pairs;
+/// The candidate pairs FindSelfIntersections would test among the given triangles (see
+/// FindSelfIntersectionsWithin), counted in linear work and memory, no pair tested.
+inline double CountCandidatePairs(const std::vector<std::array<Index, 3>>& tris,
+                                  const std::vector<Point>& points, double medianEdge, int threads) {
+  if (tris.size() < 2) return 0;
+  return self_intersection_detail::BroadPhase(tris, points, medianEdge, ResolveThreadCount(threads))
+      .candidatePairs;
 }
 
-/// Counts intersecting pairs among the given (non-degenerate, finite) triangles
-/// (FindSelfIntersections).
-inline IntersectionCounts CountSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
-                                                 const std::vector<Point>& points, double medianEdge,
-                                                 int threads) {
+inline std::vector<IntersectingPair> FindSelfIntersections(const std::vector<std::array<Index, 3>>& tris,
+                                                           const std::vector<Point>& points,
+                                                           double medianEdge, int threads,
+                                                           bool duplicatesIntersect = false) {
+  return FindSelfIntersectionsWithin(tris, points, medianEdge, threads,
+                                     std::numeric_limits<double>::infinity(), duplicatesIntersect)
+      .pairs;
+}
+
+/// The counts of a list of intersecting pairs among `faces` triangles.
+inline IntersectionCounts CountIntersectingPairs(const std::vector<IntersectingPair>& pairs,
+                                                 std::size_t faces) {
   IntersectionCounts result;
-  std::vector<bool> involved(tris.size(), false);
-  for (const IntersectingPair& hit : FindSelfIntersections(tris, points, medianEdge, threads)) {
+  std::vector<bool> involved(faces, false);
+  for (const IntersectingPair& hit : pairs) {
     ++(hit.adjacent ? result.adjacentPairs : result.disjointPairs);
     involved[hit.i] = involved[hit.j] = true;
   }
