@@ -14,7 +14,10 @@
 #   OUT_DIR  where the PNGs go (default: docs/images)
 #   ZOOM     mouse-wheel steps into the default MeshLab view (default: 2)
 #   WIDTH    width of the saved PNGs in pixels (default: 640)
-#   PARTS    which pictures: "meshes", "gui" or both (default: "meshes gui")
+#   PARTS    which pictures: "meshes", "gui", "region" or any of them (default: "meshes gui region")
+#   REGION_CENTER  x y z of the pocket the region pictures select, in the first mesh's coordinates
+#            (default: a pocket of lysozyme facing MeshLab's default view, the vertex with the
+#            largest z minus distance from the vertical axis through the centroid), radius 8
 #
 # For each mesh and for its input and remeshed output, two pictures:
 #   <mesh>_<input|remeshed>_faces.png     per-face color: obtuse vermillion, angle < 30 deg blue, both
@@ -27,6 +30,10 @@
 #   gui_color_bad_elements.png  the view and the legend in the log right after Color Bad Elements
 #   gui_full_pipeline_dialog.png the Full Pipeline dialog with its pre-filled values
 #   gui_full_pipeline_log.png   the layers and the log (aligned tables) after the Full Pipeline ran
+#   gui_region_dialog.png       a pocket selected with MeshLab's Conditional Face Selection, and the
+#                               Full Pipeline dialog with "Remesh only selected faces" on
+#   gui_region_remeshed.png     the result in wireframe: the new pocket (selected, red) in the
+#                               untouched input, the new layer and the log of the region run
 set -euo pipefail
 
 # Inside the virtual display (the script calls itself through xvfb-run): capture one project.
@@ -165,6 +172,88 @@ if [ "${1:-}" = "--gui" ]; then
   exit 0
 fi
 
+# Inside the virtual display: a pocket remeshed alone (usage: --region-gui MESHLAB MESH OUT X Y Z).
+if [ "${1:-}" = "--region-gui" ]; then
+  meshlab_bin=$2 mesh=$3 out=$4 cx=$5 cy=$6 cz=$7
+  "$meshlab_bin" "$mesh" >"$out/region.meshlab.log" 2>&1 &
+  pid=$!
+  win=
+  for _ in $(seq 1 120); do
+    win=$(xdotool search --onlyvisible --name '^MeshLab ' 2>/dev/null | head -1 || true)
+    [ -n "$win" ] && break
+    sleep 0.5
+  done
+  [ -n "$win" ] || { echo "make_pictures: no MeshLab window after 60 s" >&2; kill "$pid"; exit 1; }
+  for _ in $(seq 1 120); do
+    grep -q 'All files opened\|Opened mesh' "$out/region.meshlab.log" && break
+    sleep 0.5
+  done
+  sleep 3
+  xdotool windowmove "$win" 0 0 windowsize "$win" 1600 1000
+  sleep 2
+  # A filter's dialog through MeshLab's filter search (ctrl+f), the first hit.
+  open_dialog() {
+    xdotool windowfocus --sync "$win" 2>/dev/null || true
+    xdotool key --window "$win" ctrl+f
+    sleep 1
+    xdotool type --delay 40 "$1"
+    sleep 1.5
+    xdotool key Down
+    sleep 0.5
+    xdotool key Return
+    sleep 3
+    dialog=$(xdotool search --onlyvisible --name "$1" | head -1)
+    [ -n "$dialog" ] || { echo "make_pictures: no dialog of $1" >&2; kill "$pid"; exit 1; }
+    eval "$(xdotool getwindowgeometry --shell "$dialog")"
+  }
+  # The faces whose three corners lie within 8 A of the center (MeshLab's own selection filter):
+  # its one text field sits under the help text, Apply at the bottom right.
+  ball=
+  for k in 0 1 2; do
+    ball="$ball${ball:+ && }(x$k-($cx))^2+(y$k-($cy))^2+(z$k-($cz))^2<64"
+  done
+  open_dialog "Conditional Face Selection"
+  xdotool mousemove $((WIDTH * 60 / 100)) $((HEIGHT - 124)) click --repeat 3 1
+  xdotool key ctrl+a
+  xdotool type --delay 5 "$ball"
+  xdotool mousemove $((WIDTH * 74 / 100)) $((HEIGHT - 22)) click 1
+  sleep 2
+  xdotool mousemove $((WIDTH * 25 / 100)) $((HEIGHT - 22)) click 1 # Close
+  sleep 1
+  # Full Pipeline with "Remesh only selected faces" on: the last parameter, above the buttons.
+  open_dialog "Molecular Remesh: Full Pipeline"
+  xdotool mousemove 25 $((HEIGHT - 92)) click 1
+  sleep 1
+  import -window root "$out/gui_region_dialog.png"
+  xdotool mousemove $((WIDTH * 74 / 100)) $((HEIGHT - 22)) click 1
+  for _ in $(seq 1 300); do
+    grep -q 'region remeshed' "$out/region.meshlab.log" && break
+    sleep 1
+  done
+  sleep 6
+  xdotool mousemove $((WIDTH * 25 / 100)) $((HEIGHT - 22)) click 1 # Close
+  sleep 1
+  # Wireframe on for the new layer (its row's wire toggle), trackball hidden, zoomed in twice.
+  xdotool mousemove 1505 145 click 1
+  sleep 1
+  xdotool windowfocus --sync "$win" 2>/dev/null || true
+  xdotool mousemove 600 530
+  xdotool key --window "$win" shift+h
+  for _ in 1 2; do
+    xdotool click 5
+    sleep 0.3
+  done
+  xdotool mousemove 1599 999
+  sleep 2
+  import -window root "$out/gui_region_remeshed.png"
+  xdotool key ctrl+q 2>/dev/null || true
+  sleep 2
+  xdotool key Escape 2>/dev/null || true
+  kill "$pid" 2>/dev/null || true
+  wait "$pid" 2>/dev/null || true
+  exit 0
+fi
+
 repo=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-${BUILD_DIR:-$repo/build}}
 cli=$build/cli/molremesh
@@ -240,7 +329,7 @@ MLP
   echo "make_pictures: $png ($(du -k "$png" | cut -f1) KB)"
 }
 
-parts=${PARTS:-meshes gui}
+parts=${PARTS:-meshes gui region}
 for mesh in "${meshes[@]}"; do
   [[ $parts == *meshes* ]] || break
   input=$data/$mesh.ply
@@ -260,7 +349,7 @@ for mesh in "${meshes[@]}"; do
   done
 done
 
-[[ $parts == *gui* ]] || exit 0
+[[ $parts == *gui* || $parts == *region* ]] || exit 0
 # The plugin in the GUI: a private copy of MeshLab whose plugins/ folder holds the system plugins
 # and the build's (MeshLab looks for plugins beside its binary), on the first mesh.
 gui=$work/gui
@@ -276,17 +365,34 @@ export LD_LIBRARY_PATH="$libdir\${LD_LIBRARY_PATH:+:\$LD_LIBRARY_PATH}"
 exec "$gui/meshlab" "\$@"
 RUN
 chmod +x "$gui/run.sh"
+if [[ $parts == *gui* ]]; then
+  for attempt in 1 2 3; do
+    xvfb-run -a -s "-screen 0 1600x2600x24" bash "$0" --gui "$gui/run.sh" "$data/${meshes[0]}.ply" "$work" && break
+    [ "$attempt" -lt 3 ] || { echo "make_pictures: GUI capture failed 3 times" >&2; exit 1; }
+    sleep 2
+  done
+  convert "$work/gui_color_bad_elements.png" -crop 1600x1000+0+0 +repage -resize 1000x -strip -define png:compression-level=9 \
+    "$out/gui_color_bad_elements.png"
+  convert "$work/gui_full_pipeline_dialog.png" -strip -define png:compression-level=9 "$out/gui_full_pipeline_dialog.png"
+  # The floating layer dock: its layers (top), and the log with the tables (bottom).
+  convert "$work/gui_full_pipeline_log.png" \( -clone 0 -crop 600x120+1000+0 \) \( -clone 0 -crop 600x${LOG_HEIGHT:-760}+1000+$((2600 - ${LOG_HEIGHT:-760})) \) \
+    -delete 0 +repage -append -strip -define png:compression-level=9 "$out/gui_full_pipeline_log.png"
+  for png in gui_color_bad_elements gui_full_pipeline_dialog gui_full_pipeline_log; do
+    echo "make_pictures: $out/$png.png ($(du -k "$out/$png.png" | cut -f1) KB)"
+  done
+fi
+
+[[ $parts == *region* ]] || exit 0
+read -r cx cy cz <<<"${REGION_CENTER:-2.993 21.377 41.73}"
 for attempt in 1 2 3; do
-  xvfb-run -a -s "-screen 0 1600x2600x24" bash "$0" --gui "$gui/run.sh" "$data/${meshes[0]}.ply" "$work" && break
-  [ "$attempt" -lt 3 ] || { echo "make_pictures: GUI capture failed 3 times" >&2; exit 1; }
+  xvfb-run -a -s "-screen 0 1600x1000x24" bash "$0" --region-gui "$gui/run.sh" "$data/${meshes[0]}.ply" "$work" \
+    "$cx" "$cy" "$cz" && break
+  [ "$attempt" -lt 3 ] || { echo "make_pictures: region capture failed 3 times" >&2; exit 1; }
   sleep 2
 done
-convert "$work/gui_color_bad_elements.png" -crop 1600x1000+0+0 +repage -resize 1000x -strip -define png:compression-level=9 \
-  "$out/gui_color_bad_elements.png"
-convert "$work/gui_full_pipeline_dialog.png" -strip -define png:compression-level=9 "$out/gui_full_pipeline_dialog.png"
-# The floating layer dock: its layers (top), and the log with the tables (bottom).
-convert "$work/gui_full_pipeline_log.png" \( -clone 0 -crop 600x120+1000+0 \) \( -clone 0 -crop 600x${LOG_HEIGHT:-760}+1000+$((2600 - ${LOG_HEIGHT:-760})) \) \
-  -delete 0 +repage -append -strip -define png:compression-level=9 "$out/gui_full_pipeline_log.png"
-for png in gui_color_bad_elements gui_full_pipeline_dialog gui_full_pipeline_log; do
+convert "$work/gui_region_dialog.png" -crop 1130x1000+0+0 +repage -resize 900x -strip -define png:compression-level=9 \
+  "$out/gui_region_dialog.png"
+convert "$work/gui_region_remeshed.png" -resize 1000x -strip -define png:compression-level=9 "$out/gui_region_remeshed.png"
+for png in gui_region_dialog gui_region_remeshed; do
   echo "make_pictures: $out/$png.png ($(du -k "$out/$png.png" | cut -f1) KB)"
 done

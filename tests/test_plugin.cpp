@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cmath>
 #include <fstream>
 #include <cstdio>
 #include <set>
@@ -231,6 +232,32 @@ TEST_F(PluginTest, ReportOnNonManifoldAndDegenerateInputChangesNothing) {
     document.delMesh(mm);
   }
   EXPECT_NE(LogText().find("non-manifold edges"), std::string::npos);
+}
+
+// 8000 long triangles through one point: over 3.2e7 candidate pairs for the self-intersection
+// count, more than its bound (10^7 + 1000 per face): the report is logged without the count, with
+// a warning that says why, and nothing changes.
+TEST_F(PluginTest, ReportSkipsTheSelfIntersectionCountOfAHugeOverlapWithAWarning) {
+  MeshModel* mm = AddLayer("");
+  const int n = 8000;
+  auto v = vcg::tri::Allocator<CMeshO>::AddVertices(mm->cm, 3 * n);
+  auto f = vcg::tri::Allocator<CMeshO>::AddFaces(mm->cm, n);
+  for (int i = 0; i < n; ++i, ++f) {
+    const float a = 3.14159265f * float(i) / float(n), c = std::cos(a), s = std::sin(a);
+    CMeshO::VertexPointer corner[3];
+    for (int k = 0; k < 3; ++k) corner[k] = &*v++;
+    corner[0]->P() = vcg::Point3f(c, s, -0.1f);
+    corner[1]->P() = vcg::Point3f(-c, -s, 0.1f);
+    corner[2]->P() = vcg::Point3f(0.01f * s, 0.01f * c, 1.0f);
+    for (int k = 0; k < 3; ++k) f->V(k) = corner[k];
+  }
+  const LayerSnapshot before = LayerSnapshot::Of(*mm);
+  ASSERT_TRUE(Apply(kReport, *mm)) << plugin->errorMsg().toStdString();
+  EXPECT_TRUE(LayerSnapshot::Of(*mm) == before);
+  const std::string text = LogText();
+  EXPECT_NE(text.find("more than its bound"), std::string::npos) << text;
+  EXPECT_NE(text.find("self-intersections not counted"), std::string::npos) << text;
+  EXPECT_NE(text.find("obtuse faces"), std::string::npos) << "the other figures are logged";
 }
 
 TEST_F(PluginTest, ReportLogsTheTableOfARealMesh) {
