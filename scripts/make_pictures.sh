@@ -93,10 +93,10 @@ if [ "${1:-}" = "--capture" ]; then
   exit 0
 fi
 
-# Inside the virtual display: the plugin in a MeshLab GUI that loads it (usage: --gui MESHLAB MESH OUT).
-if [ "${1:-}" = "--gui" ]; then
-  meshlab_bin=$2 mesh=$3 out=$4
-  "$meshlab_bin" "$mesh" >"$out/gui.meshlab.log" 2>&1 &
+# Inside the virtual display: MeshLab (the plugin's private copy) started on a mesh, its window at
+# 1600x1000 once the mesh is loaded; sets pid and win (usage: start_gui MESHLAB MESH LOG).
+start_gui() {
+  "$1" "$2" >"$3" 2>&1 &
   pid=$!
   win=
   for _ in $(seq 1 120); do
@@ -106,28 +106,46 @@ if [ "${1:-}" = "--gui" ]; then
   done
   [ -n "$win" ] || { echo "make_pictures: no MeshLab window after 60 s" >&2; kill "$pid"; exit 1; }
   for _ in $(seq 1 120); do
-    grep -q 'All files opened\|Opened mesh' "$out/gui.meshlab.log" && break
+    grep -q 'All files opened\|Opened mesh' "$3" && break
     sleep 0.5
   done
   sleep 3
   xdotool windowmove "$win" 0 0 windowsize "$win" 1600 1000
   sleep 2
+}
+# Opens a filter's dialog through MeshLab's filter search (ctrl+f), the first hit for $1; its
+# window (title $1) sets WIDTH and HEIGHT.
+open_dialog() {
+  xdotool windowfocus --sync "$win" 2>/dev/null || true
+  xdotool key --window "$win" ctrl+f
+  sleep 1
+  xdotool type --delay 40 "$1"
+  sleep 1.5
+  xdotool key Down
+  sleep 0.5
+  xdotool key Return
+  sleep 3
+  dialog=$(xdotool search --onlyvisible --name "$1" | head -1)
+  [ -n "$dialog" ] || { echo "make_pictures: no dialog of $1" >&2; kill "$pid"; exit 1; }
+  eval "$(xdotool getwindowgeometry --shell "$dialog")"
+}
+
+# Closes MeshLab (File > Exit, then no to saving) and ends the mode.
+quit_gui() {
+  xdotool key ctrl+q 2>/dev/null || true
+  sleep 2
+  xdotool key Escape 2>/dev/null || true
+  kill "$pid" 2>/dev/null || true
+  wait "$pid" 2>/dev/null || true
+  exit 0
+}
+
+# Inside the virtual display: the plugin in a MeshLab GUI that loads it (usage: --gui MESHLAB MESH OUT).
+if [ "${1:-}" = "--gui" ]; then
+  start_gui "$2" "$3" "$4/gui.meshlab.log"
+  out=$4
   cpu() { awk '{print $14 + $15}' "/proc/$pid/stat"; }
-  # Opens a filter's dialog through MeshLab's filter search (ctrl+f), the first hit.
-  open_filter() {
-    xdotool windowfocus --sync "$win" 2>/dev/null || true
-    xdotool key --window "$win" ctrl+f
-    sleep 1
-    xdotool type --delay 40 "$1"
-    sleep 1.5
-    xdotool key Down
-    sleep 0.5
-    xdotool key Return
-    sleep 3
-    dialog=$(xdotool search --onlyvisible --name "Molecular Remesh: $1" | head -1)
-    [ -n "$dialog" ] || { echo "make_pictures: no dialog of $1" >&2; kill "$pid"; exit 1; }
-    eval "$(xdotool getwindowgeometry --shell "$dialog")"
-  }
+  open_filter() { open_dialog "Molecular Remesh: $1"; }
   # Clicks the dialog's Apply (bottom right) and waits until MeshLab stops working.
   apply_filter() {
     xdotool mousemove $((WIDTH * 74 / 100)) $((HEIGHT - 22)) click 1
@@ -164,48 +182,13 @@ if [ "${1:-}" = "--gui" ]; then
   xdotool mousemove 1599 2599
   sleep 1
   import -window root "$out/gui_full_pipeline_log.png"
-  xdotool key ctrl+q 2>/dev/null || true
-  sleep 2
-  xdotool key Escape 2>/dev/null || true
-  kill "$pid" 2>/dev/null || true
-  wait "$pid" 2>/dev/null || true
-  exit 0
+  quit_gui
 fi
 
 # Inside the virtual display: a pocket remeshed alone (usage: --region-gui MESHLAB MESH OUT X Y Z).
 if [ "${1:-}" = "--region-gui" ]; then
-  meshlab_bin=$2 mesh=$3 out=$4 cx=$5 cy=$6 cz=$7
-  "$meshlab_bin" "$mesh" >"$out/region.meshlab.log" 2>&1 &
-  pid=$!
-  win=
-  for _ in $(seq 1 120); do
-    win=$(xdotool search --onlyvisible --name '^MeshLab ' 2>/dev/null | head -1 || true)
-    [ -n "$win" ] && break
-    sleep 0.5
-  done
-  [ -n "$win" ] || { echo "make_pictures: no MeshLab window after 60 s" >&2; kill "$pid"; exit 1; }
-  for _ in $(seq 1 120); do
-    grep -q 'All files opened\|Opened mesh' "$out/region.meshlab.log" && break
-    sleep 0.5
-  done
-  sleep 3
-  xdotool windowmove "$win" 0 0 windowsize "$win" 1600 1000
-  sleep 2
-  # A filter's dialog through MeshLab's filter search (ctrl+f), the first hit.
-  open_dialog() {
-    xdotool windowfocus --sync "$win" 2>/dev/null || true
-    xdotool key --window "$win" ctrl+f
-    sleep 1
-    xdotool type --delay 40 "$1"
-    sleep 1.5
-    xdotool key Down
-    sleep 0.5
-    xdotool key Return
-    sleep 3
-    dialog=$(xdotool search --onlyvisible --name "$1" | head -1)
-    [ -n "$dialog" ] || { echo "make_pictures: no dialog of $1" >&2; kill "$pid"; exit 1; }
-    eval "$(xdotool getwindowgeometry --shell "$dialog")"
-  }
+  start_gui "$2" "$3" "$4/region.meshlab.log"
+  out=$4 cx=$5 cy=$6 cz=$7
   # The faces whose three corners lie within 8 A of the center (MeshLab's own selection filter):
   # its one text field sits under the help text, Apply at the bottom right.
   ball=
@@ -246,12 +229,7 @@ if [ "${1:-}" = "--region-gui" ]; then
   xdotool mousemove 1599 999
   sleep 2
   import -window root "$out/gui_region_remeshed.png"
-  xdotool key ctrl+q 2>/dev/null || true
-  sleep 2
-  xdotool key Escape 2>/dev/null || true
-  kill "$pid" 2>/dev/null || true
-  wait "$pid" 2>/dev/null || true
-  exit 0
+  quit_gui
 fi
 
 repo=$(cd "$(dirname "$0")/.." && pwd)
