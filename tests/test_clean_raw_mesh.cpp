@@ -114,6 +114,15 @@ void ExpectValidResult(const MeshD& m, const molremesh::CleanRawMeshResult& r) {
   EXPECT_TRUE(vcg::tri::Clean<MeshD>::IsCoherentlyOrientedMesh(const_cast<MeshD&>(m)));
 }
 
+/// m made from soup s and cleaned with params, with the guarantees of every successful Do checked.
+molremesh::CleanRawMeshResult CleanSoup(MeshD& m, const Soup& s,
+                                        const Clean::Params& params = Clean::Params()) {
+  MakeMesh(m, s.points, s.faces);
+  const auto r = Clean::Do(m, params);
+  ExpectValidResult(m, r);
+  return r;
+}
+
 // ------------------------------------------------------------------------------------------------
 // Constructed defects
 // ------------------------------------------------------------------------------------------------
@@ -198,9 +207,7 @@ TEST(CleanRawMesh, DuplicateFacesAreRemoved) {
   s.faces.push_back({s.faces[5][0], s.faces[5][2], s.faces[5][1]}); // reversed
   s.faces.push_back({s.faces[9][1], s.faces[9][2], s.faces[9][0]}); // rotated
   MeshD m;
-  MakeMesh(m, s.points, s.faces);
-  const auto r = Clean::Do(m);
-  ExpectValidResult(m, r);
+  const auto r = CleanSoup(m, s);
   EXPECT_EQ(r.removedDuplicateFaces, 3u);
   EXPECT_EQ(std::size_t(m.fn), faces);
   EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
@@ -400,9 +407,7 @@ TEST(CleanRawMesh, InvertedFacesAreReorientedAndTheVolumeIsPositive) {
     Soup s = ToSoup(sphere);
     std::swap(s.faces[7][1], s.faces[7][2]);
     MeshD m;
-    MakeMesh(m, s.points, s.faces);
-    const auto r = Clean::Do(m);
-    ExpectValidResult(m, r);
+    const auto r = CleanSoup(m, s);
     EXPECT_EQ(r.flippedFacesForOrientation, 1u);
     EXPECT_NEAR(r.reportAfter.volume, volume, 1e-12);
   }
@@ -411,9 +416,7 @@ TEST(CleanRawMesh, InvertedFacesAreReorientedAndTheVolumeIsPositive) {
     Soup s = ToSoup(sphere);
     std::swap(s.faces[0][1], s.faces[0][2]);
     MeshD m;
-    MakeMesh(m, s.points, s.faces);
-    const auto r = Clean::Do(m);
-    ExpectValidResult(m, r);
+    const auto r = CleanSoup(m, s);
     EXPECT_EQ(r.flippedFacesForOrientation, 1u);
     EXPECT_NEAR(r.reportAfter.volume, volume, 1e-12);
   }
@@ -422,9 +425,7 @@ TEST(CleanRawMesh, InvertedFacesAreReorientedAndTheVolumeIsPositive) {
     Soup s = ToSoup(sphere);
     for (auto& f : s.faces) std::swap(f[1], f[2]);
     MeshD m;
-    MakeMesh(m, s.points, s.faces);
-    const auto r = Clean::Do(m);
-    ExpectValidResult(m, r);
+    const auto r = CleanSoup(m, s);
     EXPECT_EQ(r.flippedComponents, 1u);
     EXPECT_EQ(r.flippedFacesForOrientation, s.faces.size());
     EXPECT_NEAR(r.reportAfter.volume, volume, 1e-12);
@@ -630,9 +631,7 @@ TEST(CleanRawMesh, OverlappingSoupIsReadByTheUnionAndItsInnerPieceRemoved) {
   s.points.insert(s.points.end(), {a, b, (a + b) * 0.5 * 1.2});
   s.faces.push_back({base, base + 1, base + 2});
   MeshD m;
-  MakeMesh(m, s.points, s.faces);
-  const auto r = Clean::Do(m);
-  ExpectValidResult(m, r);
+  const auto r = CleanSoup(m, s);
   EXPECT_GT(r.removedNonManifoldFaces, 0u);
   EXPECT_EQ(r.removedInteriorComponents, 1u);
   ASSERT_EQ(r.keptComponents.size(), 1u);
@@ -645,9 +644,7 @@ TEST(CleanRawMesh, SeparatePartsAreKeptByDefaultAndAnExplicitVolumeThresholdDrop
   ASSERT_GT(smallVolume, 0);
   {
     MeshD m;
-    MakeMesh(m, s.points, s.faces);
-    const auto r = Clean::Do(m);
-    ExpectValidResult(m, r);
+    const auto r = CleanSoup(m, s);
     EXPECT_EQ(r.removedSmallComponents, 0u);
     ASSERT_EQ(r.keptComponents.size(), 2u);
     EXPECT_GT(r.keptComponents[0].volume, 0);
