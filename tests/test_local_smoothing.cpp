@@ -27,9 +27,10 @@ using molremesh::test::SameMesh;
 namespace {
 
 /// The shared mesh `name` after the pipeline's stages clean (+ cvt) + small + obtuse.
-void LoadPrepared(MeshD& m, const std::string& name, bool cvt) {
-  molremesh::test::LoadPrepared(m, name, cvt,
-                                {molremesh::PipelineStage::Small, molremesh::PipelineStage::Obtuse});
+void LoadPrepared(MeshD& m, const std::string& name, bool cvt, bool obtuse = true) {
+  std::vector<molremesh::PipelineStage> stages{molremesh::PipelineStage::Small};
+  if (obtuse) stages.push_back(molremesh::PipelineStage::Obtuse);
+  molremesh::test::LoadPrepared(m, name, cvt, stages);
 }
 
 Smoothing::Params ParamsFor(const MeshD& m) {
@@ -103,10 +104,13 @@ TEST(LocalSmoothing, SameOutputForOneAndTwoThreadsAndForTheSameSeed) {
 }
 
 // --- Real meshes after small-angle elimination and obtuse reduction ---------------------------------
+// (ubiquitin PyMOL after small-angle elimination only: the 25 obtuse faces of its 10 410 that obtuse
+// reduction leaves, up to 95.4 degrees, are beyond smoothing's edits as well.)
 
 struct RealCase {
   const char* mesh;
   bool cvt;
+  bool obtuse = true; ///< obtuse reduction before smoothing
 };
 
 class LocalSmoothingReal : public ::testing::TestWithParam<RealCase> {};
@@ -115,7 +119,7 @@ TEST_P(LocalSmoothingReal, ReducesBadTrianglesWithoutNewSmallAnglesAndKeepsTheIn
   MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   const RealCase c = GetParam();
   molremesh::test::RealRun run;
-  LoadPrepared(run.input, c.mesh, c.cvt);
+  LoadPrepared(run.input, c.mesh, c.cvt, c.obtuse);
   Smoothing::Result r;
   ASSERT_NO_FATAL_FAILURE(molremesh::test::RunOnCopy<Smoothing>(run, r));
   const molremesh::QualityReport &before = run.before, &after = run.after;
@@ -129,12 +133,14 @@ TEST_P(LocalSmoothingReal, ReducesBadTrianglesWithoutNewSmallAnglesAndKeepsTheIn
   molremesh::test::ExpectLocalStageInvariants(run);
 }
 
-INSTANTIATE_TEST_SUITE_P(
-    Meshes, LocalSmoothingReal,
-    ::testing::Values(RealCase{"lysozyme_Lys1_msms.ply", false}, RealCase{"galactose_grasp.ply", false},
-                      RealCase{"bpti_1bpi_msms.ply", false}, RealCase{"ubiquitin_1UBQ_pymol_ses.ply", false}),
-    [](const ::testing::TestParamInfo<RealCase>& param) {
-      std::string name = param.param.mesh;
-      name = name.substr(0, name.find('.'));
-      return name + (param.param.cvt ? "_clean_cvt_small_obtuse" : "_clean_small_obtuse");
-    });
+INSTANTIATE_TEST_SUITE_P(Meshes, LocalSmoothingReal,
+                         ::testing::Values(RealCase{"lysozyme_Lys1_msms.ply", false},
+                                           RealCase{"galactose_grasp.ply", false},
+                                           RealCase{"bpti_1bpi_msms.ply", false},
+                                           RealCase{"ubiquitin_1UBQ_pymol_ses.ply", false, false}),
+                         [](const ::testing::TestParamInfo<RealCase>& param) {
+                           std::string name = param.param.mesh;
+                           name = name.substr(0, name.find('.'));
+                           return name + (param.param.cvt ? "_clean_cvt_small" : "_clean_small") +
+                                  (param.param.obtuse ? "_obtuse" : "");
+                         });

@@ -77,6 +77,36 @@ TEST(ObtuseReduction, PentagonInsertionAloneRemovesObtuseTriangles) {
   molremesh::test::ExpectComponentsClosedWithTheirGenus(before, after);
 }
 
+// Where the vertex at the largest angle cannot move (here: locked, as on a region's border), the
+// stage moves the two other corners of the triangle instead; the locked vertices stay put.
+TEST(ObtuseReduction, TriangleWhoseObtuseCornerIsLockedIsReducedByItsOtherCorners) {
+  MeshD m;
+  ObtuseSphere(m);
+  const molremesh::QualityReport before = Quality::Compute(m);
+  ASSERT_GT(before.angleMax, 110.0);
+  Obtuse::Params p = ParamsFor(m);
+  p.pentagonInsertion = false; // translations only
+  p.lockedVertices.assign(m.vert.size(), 0);
+  std::vector<std::pair<std::size_t, vcg::Point3d>> locked;
+  for (std::size_t fi = 0; fi < m.face.size(); fi += 97) { // the corners ObtuseSphere pushed
+    const std::size_t vi = vcg::tri::Index(m, m.face[fi].V(0));
+    p.lockedVertices[vi] = 1;
+    locked.push_back({vi, vcg::Point3d::Construct(m.vert[vi].cP())});
+  }
+  Reference reference;
+  ASSERT_TRUE(reference.Build(m));
+  const Obtuse::Result r = Obtuse::Do(m, reference, p);
+  ASSERT_TRUE(r.ok) << r.message;
+  const molremesh::QualityReport after = Quality::Compute(m);
+  EXPECT_LT(after.angleMax, 90.0) << ObtuseReductionSummary(r);
+  EXPECT_EQ(after.obtuseFaces, 0u) << ObtuseReductionSummary(r);
+  EXPECT_GE(after.angleMin, std::min(before.angleMin, 30.0) - 1e-9);
+  for (const auto& [vi, position] : locked)
+    EXPECT_EQ(vcg::Point3d::Construct(m.vert[vi].cP()), position) << "locked vertex " << vi << " moved";
+  molremesh::test::ExpectTwoManifoldWithoutDegenerateFaces(after);
+  molremesh::test::ExpectNoSelfIntersection(after);
+}
+
 TEST(ObtuseReduction, MeshWithoutObtuseAnglesIsLeftAsItIs) {
   MeshD m;
   molremesh::test::Icosphere(m, 4);

@@ -12,7 +12,13 @@
 //     curved reference bends anyway. The best sample (smallest largest angle of the star, then
 //     largest smallest angle) is applied only when it lowers the star's largest angle and creates
 //     no angle below minAngleDeg (no more star triangles below it, no smaller angle than before);
-//     starting with a threshold of 110 degrees lets the worst angles move first, with room to spare;
+//     starting with a threshold of 110 degrees lets the worst angles move first, with room to spare.
+//     Where that vertex is pinned (locked on a region's border, or every sample would make a small
+//     angle), the two other corners are tried the same way (moving B toward the line AC closes
+//     the angle at A), and where all three are pinned, the free neighbours of the obtuse corner
+//     first widen the angles of the faces they share with it (each moved to the sample that most
+//     raises them, by 0.5 degrees at least, with no larger angle in its star and no new small
+//     angle), then the three corners are tried again;
 //  2. pentagon point insertion, on the triangles still obtuse: the obtuse triangle, its neighbour
 //     across its longest edge and the neighbour of that one across its own longest edge (of the two
 //     other edges, when the longest is the shared one) form a pentagon when the three are distinct,
@@ -237,7 +243,7 @@ private:
             const double l = (PositionOf(f.cV((k + 1) % 3)) - PositionOf(f.cV((k + 2) % 3))).SquaredNorm();
             if (l > longest) longest = l, corner = k;
           }
-          if (Translate(VIndex(f.cV(corner)))) ++r.moves, ++moved;
+          if (TranslateAnyCorner(f, corner)) ++r.moves, ++moved;
         }
         if (moved == 0) return;
       }
@@ -247,11 +253,87 @@ private:
       return StarShapeAt<Shape, FaceType>(v, q, MinAngleBound());
     }
 
+    /// Lowers the largest angle of f, at `corner`: by moving that vertex; where its other faces pin
+    /// it, by moving one of the two others (moving B toward the line AC shrinks the angle at A;
+    /// their stars contain f, so Translate's test applies unchanged); where all three are pinned,
+    /// after widening the angles that pin the first one (MakeRoomAround).
+    bool TranslateAnyCorner(const FaceType& f, int corner) {
+      const std::size_t a = VIndex(f.cV(corner)), b = VIndex(f.cV((corner + 1) % 3)),
+                        c = VIndex(f.cV((corner + 2) % 3));
+      if (Translate(a) || Translate(b) || Translate(c)) return true;
+      return MakeRoomAround(a) && (Translate(a) || Translate(b) || Translate(c));
+    }
+
     /// Moves vertex vi to the best sample of its feasible disc, when that lowers the largest angle
     /// of its star without a new small angle.
     bool Translate(std::size_t vi) {
-      ops_.EnsureFootpointsAround(m_.vert[vi]); // lazy footpoints (Init)
+      VertexType& v = m_.vert[vi];
+      const Shape before = StarShape(&v, PositionOf(&v));
+      candidates_.clear();
+      const bool sampled = ForEachDiscSample(vi, [&](const Point& q, int foot) {
+        const Shape s = StarShape(&v, q);
+        if (Acceptable(before, s)) candidates_.push_back({s, 0.0, q, foot});
+      });
+      if (!sampled) return false;
+      std::stable_sort(candidates_.begin(), candidates_.end(),
+                       [](const Candidate& x, const Candidate& y) { return x.shape.BetterThan(y.shape); });
+      return MoveToFirstAccepted(v);
+    }
 
+    /// Widens the angles that keep vertex ai from moving: each free neighbour u of it goes to the
+    /// disc sample that most raises the smallest angle of the faces u and ai share (by at least
+    /// kRoomGainDeg), when u's star gets no larger largest angle and no new small angle. True when
+    /// a neighbour moved.
+    bool MakeRoomAround(std::size_t ai) {
+      VertexType& a = m_.vert[ai];
+      if (!IsFreeVertex(ops_, a)) return false;
+      std::vector<std::size_t> ring;
+      for (vcg::face::VFIterator<FaceType> it(&a); !it.End(); ++it)
+        ring.push_back(VIndex(it.F()->cV((it.I() + 1) % 3)));
+      bool moved = false;
+      for (const std::size_t ui : ring) moved = WidenSharedAngles(ui, a) || moved;
+      return moved;
+    }
+
+    bool WidenSharedAngles(std::size_t ui, const VertexType& a) {
+      constexpr double kRoomGainDeg = 0.5;
+      VertexType& u = m_.vert[ui];
+      const Point p0 = PositionOf(&u);
+      const Shape before = StarShape(&u, p0);
+      const double sharedBefore = SharedMinAngle(u, a, p0);
+      candidates_.clear();
+      const bool sampled = ForEachDiscSample(ui, [&](const Point& q, int foot) {
+        const Shape s = StarShape(&u, q);
+        if (s.maxDeg > before.maxDeg + 1e-9 || s.small > before.small ||
+            s.minDeg < std::min(before.minDeg, MinAngleBound()))
+          return;
+        const double shared = SharedMinAngle(u, a, q);
+        if (shared > sharedBefore + kRoomGainDeg) candidates_.push_back({s, shared, q, foot});
+      });
+      if (!sampled) return false;
+      std::stable_sort(candidates_.begin(), candidates_.end(),
+                       [](const Candidate& x, const Candidate& y) { return x.gain > y.gain; });
+      return MoveToFirstAccepted(u);
+    }
+
+    /// The smallest angle of the faces around u that have a corner at a, with u at q.
+    double SharedMinAngle(const VertexType& u, const VertexType& a, const Point& q) const {
+      AngleTally t;
+      for (vcg::face::VFIterator<FaceType> it(const_cast<VertexType*>(&u)); !it.End(); ++it) {
+        const VertexType* next = it.F()->cV((it.I() + 1) % 3);
+        const VertexType* prev = it.F()->cV((it.I() + 2) % 3);
+        if (next == &a || prev == &a) t.Add(q, PositionOf(next), PositionOf(prev), MinAngleBound());
+      }
+      return t.minDeg;
+    }
+
+    /// Calls visit(point, footFace) for each sample of the feasible disc of vertex vi
+    /// (discRings x discDirections positions in its tangent plane, radius up to discRadiusFactor x
+    /// its shortest edge), projected onto the reference near its footpoint. False when vi is not
+    /// free or has no tangent plane.
+    template <class Visit>
+    bool ForEachDiscSample(std::size_t vi, Visit&& visit) {
+      ops_.EnsureFootpointsAround(m_.vert[vi]); // lazy footpoints (Init)
       VertexType& v = m_.vert[vi];
       if (!IsFreeVertex(ops_, v)) return false;
       const Point p0 = PositionOf(&v);
@@ -267,22 +349,21 @@ private:
       n.Normalize();
       Point e1, e2;
       TangentBasis(n, e1, e2);
-      const Shape before = StarShape(&v, p0);
       const int foot = ops_.Footpoint(v);
-      candidates_.clear();
       for (int ri = 1; ri <= params_.discRings; ++ri) {
         const double radius = params_.discRadiusFactor * shortest * ri / params_.discRings;
         for (int d = 0; d < params_.discDirections; ++d) {
           const double t = 2.0 * kPi * d / params_.discDirections;
           const SurfaceProjection proj =
               ref_.Project(p0 + (e1 * std::cos(t) + e2 * std::sin(t)) * radius, foot, scratch_);
-          if (!proj.ok()) continue;
-          const Shape s = StarShape(&v, proj.point);
-          if (Acceptable(before, s)) candidates_.push_back({s, proj.point, proj.face});
+          if (proj.ok()) visit(proj.point, proj.face);
         }
       }
-      std::stable_sort(candidates_.begin(), candidates_.end(),
-                       [](const Candidate& x, const Candidate& y) { return x.shape.BetterThan(y.shape); });
+      return true;
+    }
+
+    /// Moves v to the first of the (sorted) candidates the guards accept, trying four at most.
+    bool MoveToFirstAccepted(VertexType& v) {
       for (std::size_t i = 0; i < candidates_.size() && i < 4; ++i)
         if (ops_.MoveVertexTo(&v, candidates_[i].point, candidates_[i].foot)) return true;
       return false;
@@ -387,6 +468,7 @@ private:
 
     struct Candidate {
       Shape shape;
+      double gain; ///< MakeRoomAround: the smallest shared angle reached
       Point point;
       int foot;
     };
