@@ -485,7 +485,9 @@ CLI::App* AddRemeshCommand(CLI::App& app, CommandLine& c) {
   remesh->add_option("--stages", c.remesh.stages, stageHelp);
   remesh
       ->add_option("--target-length", c.remesh.targetLength,
-                   "Target edge length L (default: the cleaned input's mean edge length)")
+                   "Target edge length L: the edge length of flat parts, curved parts get down to 0.6 L "
+                   "(default: the cleaned input's mean edge length; a remesh at L with this resolution "
+                   "already is kept as it is)")
       ->check(Number(0));
   remesh->add_option("--seed", c.seed, "Seed of every random choice")->default_str("1")->check(Seed());
   remesh

@@ -361,8 +361,9 @@ List FullPipelineParameters() {
   // filters, so this dialog fits on the screen.
   const Pipeline::Params defaults;
   List list;
-  AddTargetLength(list, "Length the triangle edges aim at; half the length gives about four times the "
-                        "triangles.");
+  AddTargetLength(list, "Edge length on flat parts (curved parts get shorter edges); half the length gives "
+                        "about four times the triangles. A remesh run again at its own mean edge length is "
+                        "kept as it is.");
   AddMinAngle(list);
   AddMaxAngle(list, defaults.valence.maxAngleDeg);
   list.push_back({Type::Float, "surfaceLift", defaults.reference.phongAlpha,

@@ -1,5 +1,6 @@
 // RemeshPipeline in process: the working frame of meshes far from the origin (CoordinateFrame), the
-// target length as the output's mean edge length, and a second run on an output changing it little.
+// target length as the output's mean edge length, a second run on an output changing it little, and
+// a remesh asked for another length remeshed.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -105,33 +106,65 @@ TEST(RemeshPipeline, MeanEdgeWithinTenPercentOfAnExplicitTargetOnASphere) {
 }
 
 // Remeshing an output again with the same options changes it little: face count within 3 %, area
-// within 0.1 %, the smallest angle not lower, when RAR's sizing field is scaled to a mean edge of L
-// (with the default target the second run takes the output's mean edge length, then the first
-// run's target; with the field capped at L it was 19-23 % shorter and the second run added 30 %
-// faces). The second run skips CVT and projects onto the output's Phong surface.
+// within 0.1 %, the smallest angle not lower. By default the second run finds a remesh at L with the
+// resolution RAR gives it and keeps it as it is (with the default target, L is the output's mean
+// edge length, 0.8 L of the first run's: RAR's field capped at it used to add 30 % faces per run);
+// with RAR's field scaled to a mean edge of L (meanEdgeAtTarget) the output's mean edge is L too.
 TEST(RemeshPipeline, RemeshingItsOutputAgainChangesItLittle) {
   MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
   MeshD input;
   std::string error;
   ASSERT_TRUE(LoadMesh(input, SharedMesh("bpti_1bpi_msms.ply"), error)) << error;
-  for (const bool explicitTarget : {false, true}) {
-    SCOPED_TRACE(explicitTarget ? "explicit target" : "default target");
-    MeshD once, twice;
-    vcg::tri::Append<MeshD, MeshD>::MeshCopy(once, input);
-    Pipeline::Params params;
-    params.rar.rar.meanEdgeAtTarget = true; // the output's mean edge at L: the second run's default L
-    const PipelineResult first = Pipeline::Do(once, params);
-    ASSERT_TRUE(first.ok) << first.message;
-    if (explicitTarget) params.targetEdgeLength = first.targetEdgeLength;
+  for (const bool meanEdgeAtTarget : {false, true})
+    for (const bool explicitTarget : {false, true}) {
+      SCOPED_TRACE(std::string(meanEdgeAtTarget ? "field at a mean edge of L, " : "default field, ") +
+                   (explicitTarget ? "explicit target" : "default target"));
+      MeshD once, twice;
+      vcg::tri::Append<MeshD, MeshD>::MeshCopy(once, input);
+      Pipeline::Params params;
+      params.rar.rar.meanEdgeAtTarget = meanEdgeAtTarget;
+      const PipelineResult first = Pipeline::Do(once, params);
+      ASSERT_TRUE(first.ok) << first.message;
+      if (explicitTarget) params.targetEdgeLength = first.targetEdgeLength;
+      vcg::tri::Append<MeshD, MeshD>::MeshCopy(twice, once);
+      const PipelineResult second = Pipeline::Do(twice, params);
+      ASSERT_TRUE(second.ok) << second.message;
+      const QualityReport& a = first.stages.back().after;
+      const QualityReport& b = second.stages.back().after;
+      EXPECT_TRUE(second.verdict.AllMet()) << second.verdict.Lines("");
+      EXPECT_NEAR(double(b.faces), double(a.faces), 0.03 * double(a.faces));
+      EXPECT_NEAR(b.area, a.area, 0.001 * a.area);
+      EXPECT_GE(b.angleMin, a.angleMin);
+      if (meanEdgeAtTarget) {
+        EXPECT_NEAR(a.meanEdgeLength, first.targetEdgeLength, 0.1 * first.targetEdgeLength);
+      }
+    }
+}
+
+// A remesh asked for a coarser mesh is remeshed, not kept: at 1.3 L it loses more than a fifth of
+// its faces (the CVT stage resamples it), and at 0.8 L it gains more than a fifth.
+TEST(RemeshPipeline, RemeshAskedForAnotherLengthIsRemeshed) {
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
+  MeshD once;
+  std::string error;
+  ASSERT_TRUE(LoadMesh(once, SharedMesh("bpti_1bpi_msms.ply"), error)) << error;
+  const PipelineResult first = Pipeline::Do(once, Pipeline::Params());
+  ASSERT_TRUE(first.ok) << first.message;
+  const double faces = double(first.stages.back().after.faces);
+  for (const double factor : {1.3, 0.8}) {
+    SCOPED_TRACE("L x " + std::to_string(factor));
+    MeshD twice;
     vcg::tri::Append<MeshD, MeshD>::MeshCopy(twice, once);
+    Pipeline::Params params;
+    params.targetEdgeLength = factor * first.targetEdgeLength;
     const PipelineResult second = Pipeline::Do(twice, params);
     ASSERT_TRUE(second.ok) << second.message;
-    const QualityReport& a = first.stages.back().after;
-    const QualityReport& b = second.stages.back().after;
     EXPECT_TRUE(second.verdict.AllMet()) << second.verdict.Lines("");
-    EXPECT_NEAR(double(b.faces), double(a.faces), 0.03 * double(a.faces));
-    EXPECT_NEAR(b.area, a.area, 0.001 * a.area);
-    EXPECT_GE(b.angleMin, a.angleMin);
-    EXPECT_NEAR(a.meanEdgeLength, first.targetEdgeLength, 0.1 * first.targetEdgeLength);
+    const double ratio = double(second.stages.back().after.faces) / faces;
+    if (factor > 1) {
+      EXPECT_LT(ratio, 0.8);
+    } else {
+      EXPECT_GT(ratio, 1.2);
+    }
   }
 }

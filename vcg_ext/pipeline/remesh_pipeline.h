@@ -178,10 +178,22 @@ public:
     typename PatchwiseRemeshing<MeshType>::Params
         rar; ///< rar.rar.targetEdgeLength 0 = the pipeline's L; threads: the pipeline's
     /// Skip the CVT stage when the mesh is a remesh at L already: every angle within [small.minAngleDeg,
-    /// polish.maxAngleDeg] and the mean edge length within cvtSkipLengthTolerance x L of L. CVT
-    /// resamples from scratch, and a resampled remesh loses area to chords of its chords on every run.
+    /// polish.maxAngleDeg], and the mean edge length within cvtSkipLengthTolerance x L of L or within
+    /// rarSkipLengthTolerance of the mean edge of RAR's sizing field at L on the mesh (its output at
+    /// L). CVT resamples from scratch, and a resampled remesh loses area to chords of its chords on
+    /// every run.
     bool skipCvtOnRemesh = true;
     double cvtSkipLengthTolerance = 0.1;
+    /// Keep such a remesh as it is (skip the valence, RAR and polish stages too; small, obtuse and
+    /// smooth find nothing out of bounds) when V567 is at the verdict's target and the mesh has the
+    /// resolution RAR would give it: with the default L (the mesh's own mean edge length, also when
+    /// given explicitly, as MeshLab's dialog pre-fills it) always, since the field capped at L would
+    /// refine the remesh by a fifth on every run; with an explicit L when the mean edge length of
+    /// RAR's sizing field at L on this mesh is within rarSkipLengthTolerance of the mesh's own.
+    /// Remeshing an output again with the same options then leaves it as it is (the valence stages
+    /// would trade its smallest angles for a few regular vertices).
+    bool skipRarOnRemesh = true;
+    double rarSkipLengthTolerance = 0.05;
     /// The reference's lift toward its Phong surface (reference.phongAlpha) when the CVT stage was
     /// skipped: a remesh has no slivers, its vertex normals describe its curved surface, and RAR's
     /// moves on the flat triangles of a remesh cut its chords again. Measured on a second run over
@@ -402,9 +414,12 @@ private:
     std::unique_ptr<ReferenceSurface<MeshType>> reference;
     OutputTargets targets; // the causes are filled in by the clean stage
     MeshType backup;
-    CoordinateFrame<MeshType> frame; // the stages run in it; m leaves it on output
-    bool inFrame = false;            // whether m is in the recentred frame now
-    bool cvtSkipped = false;         // the input was a remesh at L already (Params::skipCvtOnRemesh)
+    CoordinateFrame<MeshType> frame;        // the stages run in it; m leaves it on output
+    bool inFrame = false;                   // whether m is in the recentred frame now
+    bool cvtSkipped = false;                // the input was a remesh at L already (Params::skipCvtOnRemesh)
+    std::optional<double> rarResolutionGap; // RarResolutionGap, once computed
+    bool remeshValencesMet = false;         // the remesh's V567 is at the verdict's target
+    bool remeshKept = false; // ... with RAR's resolution: valence, RAR, polish skipped (skipRarOnRemesh)
 
     RunState(MeshType& mesh, const Params& p, const std::function<void(const std::string&)>& logger)
         : m(mesh), params(p), log(logger) {}
@@ -550,8 +565,14 @@ private:
     case PipelineStage::Rar:
       return RunRar(run, summary);
     case PipelineStage::Valence:
+    case PipelineStage::Polish:
+      if (run.remeshKept) {
+        summary = "skipped: the remesh is kept (see cvt)";
+        return {};
+      }
       return RunLocalStage<ValenceOptimization<MeshType>>(
-          run, params.valence, summary, [](const auto& r) { return ValenceOptimizationSummary(r); });
+          run, stage == PipelineStage::Valence ? params.valence : params.polish, summary,
+          [](const auto& r) { return ValenceOptimizationSummary(r); });
     case PipelineStage::Small:
       return RunLocalStage<SmallAngleElimination<MeshType>>(
           run, params.small, summary, [](const auto& r) { return SmallAngleEliminationSummary(r); });
@@ -561,9 +582,6 @@ private:
     case PipelineStage::Smooth:
       return RunLocalStage<LocalSmoothing<MeshType>>(run, params.smooth, summary,
                                                      [](const auto& r) { return LocalSmoothingSummary(r); });
-    case PipelineStage::Polish:
-      return RunLocalStage<ValenceOptimization<MeshType>>(
-          run, params.polish, summary, [](const auto& r) { return ValenceOptimizationSummary(r); });
     }
     return {};
   }
@@ -600,6 +618,10 @@ private:
     if (std::string remesh = AlreadyRemeshed(run); !remesh.empty()) {
       run.cvtSkipped = true;
       summary = "CVT skipped: " + remesh;
+      if (std::string kept = RemeshAtItsResolution(run); !kept.empty()) {
+        run.remeshKept = true;
+        summary += "; kept as it is (valence, RAR and polish skipped): " + kept;
+      }
       return {};
     }
     if (std::string error = run.EnsureReference(); !error.empty()) return error;
@@ -614,7 +636,7 @@ private:
   }
 
   /// Why run.m is a remesh at the target length already (Params::skipCvtOnRemesh), or "".
-  static std::string AlreadyRemeshed(const RunState& run) {
+  static std::string AlreadyRemeshed(RunState& run) {
     const Params& params = run.params;
     const double L = run.result.targetEdgeLength;
     // A vertex count asks CVT for its own L; parameters CVT refuses are reported by the stage itself.
@@ -629,15 +651,53 @@ private:
       hi = std::max(hi, fmax);
       if (lo < params.small.minAngleDeg || hi > params.polish.maxAngleDeg) return {};
     }
-    const double meanEdge = MeanEdgeLength(run.m);
-    if (std::fabs(meanEdge - L) > params.cvtSkipLengthTolerance * L) return {};
     // Only a valid surface counts: CVT's own checks refuse a non-manifold or open one.
     const QualityReport shape = MeshQuality<MeshType>::Compute(run.m, NoIntersections(params.threads));
     if (!shape.isTwoManifold() || shape.boundaryEdges != 0 || shape.degenerateFaces != 0) return {};
+    run.remeshValencesMet = shape.interiorVertices == 0 || shape.v567Percent >= run.targets.minV567Percent;
+    const double meanEdge = MeanEdgeLength(run.m);
+    if (std::fabs(meanEdge - L) > params.cvtSkipLengthTolerance * L &&
+        RarResolutionGap(run) > params.rarSkipLengthTolerance)
+      return {};
     std::ostringstream s;
     s << "the mesh is a remesh at L already (angles " << lo << " .. " << hi << " degrees, mean edge "
       << meanEdge / L << " L)";
     return s.str();
+  }
+
+  /// Why run.m, a remesh at L already, is kept as it is (Params::skipRarOnRemesh), or "".
+  static std::string RemeshAtItsResolution(RunState& run) {
+    const Params& params = run.params;
+    // Below the V567 target, the valence stages have work to do.
+    if (!run.cvtSkipped || !params.skipRarOnRemesh || !run.remeshValencesMet) return {};
+    // The default L, or the mesh's own mean edge length given explicitly (as MeshLab's dialog
+    // pre-fills it, rounded to a float).
+    const double own = MeanEdgeLength(run.m), L = run.result.targetEdgeLength;
+    if (!(params.rar.rar.targetEdgeLength > 0) &&
+        (!(params.targetEdgeLength > 0) || std::fabs(L - own) <= 1e-5 * own))
+      return "the target length is the mean edge length of a remesh";
+    const double gap = RarResolutionGap(run);
+    if (!(gap <= params.rarSkipLengthTolerance)) return {};
+    std::ostringstream s;
+    s << "its mean edge is within " << 100.0 * gap << " % of the one RAR's sizing field at L gives it";
+    return s.str();
+  }
+
+  /// |mean edge length of RAR's sizing field at L on run.m - run.m's mean edge length|, relative to
+  /// the latter (computed once per run: the stages before RAR that may ask do not change the mesh).
+  static double RarResolutionGap(RunState& run) {
+    if (run.rarResolutionGap) return *run.rarResolutionGap;
+    const Params& params = run.params;
+    const double L =
+        params.rar.rar.targetEdgeLength > 0 ? params.rar.rar.targetEdgeLength : run.result.targetEdgeLength;
+    UpdateAdjacency(run.m, params.threads);
+    const std::vector<double> sizing =
+        AdaptiveRemeshing<MeshType>::ComputeSizing(run.m, L, params.rar.rar, params.threads);
+    const double field = AdaptiveRemeshing<MeshType>::MeanEdgeOfSizing(run.m, sizing);
+    const double meanEdge = MeanEdgeLength(run.m);
+    run.rarResolutionGap =
+        meanEdge > 0 ? std::fabs(field - meanEdge) / meanEdge : std::numeric_limits<double>::infinity();
+    return *run.rarResolutionGap;
   }
 
   /// Segments run.m with the pipeline's seed into run.result's facePatch and patchCount.
@@ -660,6 +720,10 @@ private:
 
   static std::string RunRar(RunState& run, std::string& summary) {
     run.EnsureTargetLength();
+    if (run.remeshKept) {
+      summary = "skipped: the remesh is kept (see cvt)";
+      return {};
+    }
     if (std::string error = run.EnsureReference(); !error.empty()) return error;
     std::string segmentSummary;
     if (run.result.facePatch.size() != run.m.face.size()) {

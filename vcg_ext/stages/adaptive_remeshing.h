@@ -249,6 +249,8 @@ public:
   /// a region of area A meshed at length L has about A / L^2 edges of length L, so the mean is
   /// sum(A_i / L_i) / sum(A_i / L_i^2) over the vertices, A_i a third of their faces' area.
   static void ScaleSizingToMeanEdge(const MeshType& m, double L0, std::vector<double>& sizing);
+  /// The mean edge length of a mesh of m's surface following sizing (0 when m has no area).
+  static double MeanEdgeOfSizing(const MeshType& m, const std::vector<double>& sizing);
 
   /// Largest absolute principal curvature at v, estimated from its one-ring (see the file comment).
   static double MaxAbsCurvature(const VertexType& v);
@@ -490,22 +492,37 @@ std::vector<double> AdaptiveRemeshing<MeshType>::ComputeSizing(const MeshType& m
   return sizing;
 }
 
+namespace rar_detail {
+/// sum(A_i / L_i) and sum(A_i / L_i^2) over the vertices of m (see ScaleSizingToMeanEdge).
 template <class MeshType>
-void AdaptiveRemeshing<MeshType>::ScaleSizingToMeanEdge(const MeshType& m, double L0,
-                                                        std::vector<double>& sizing) {
+std::pair<double, double> SizingSums(const MeshType& m, const std::vector<double>& sizing) {
   std::vector<double> area(m.vert.size(), 0.0);
-  for (const FaceType& f : m.face) {
+  for (const auto& f : m.face) {
     if (f.IsD()) continue;
-    const Point a = PositionOf(f.cV(0)), b = PositionOf(f.cV(1)), c = PositionOf(f.cV(2));
+    const vcg::Point3d a = PositionOf(f.cV(0)), b = PositionOf(f.cV(1)), c = PositionOf(f.cV(2));
     const double third = ((b - a) ^ (c - a)).Norm() / 6.0;
     for (int k = 0; k < 3; ++k) area[vcg::tri::Index(m, f.cV(k))] += third;
   }
   double lengths = 0, edges = 0;
-  for (std::size_t i = 0; i < sizing.size(); ++i)
+  for (std::size_t i = 0; i < sizing.size() && i < area.size(); ++i)
     if (area[i] > 0 && sizing[i] > 0) {
       lengths += area[i] / sizing[i];
       edges += area[i] / (sizing[i] * sizing[i]);
     }
+  return {lengths, edges};
+}
+} // namespace rar_detail
+
+template <class MeshType>
+double AdaptiveRemeshing<MeshType>::MeanEdgeOfSizing(const MeshType& m, const std::vector<double>& sizing) {
+  const auto [lengths, edges] = rar_detail::SizingSums(m, sizing);
+  return edges > 0 ? lengths / edges : 0.0;
+}
+
+template <class MeshType>
+void AdaptiveRemeshing<MeshType>::ScaleSizingToMeanEdge(const MeshType& m, double L0,
+                                                        std::vector<double>& sizing) {
+  const auto [lengths, edges] = rar_detail::SizingSums(m, sizing);
   const double scale = edges > 0 ? L0 * edges / lengths : 1.0;
   if (!(scale > 0) || !std::isfinite(scale)) return;
   for (double& L : sizing) L *= scale;
