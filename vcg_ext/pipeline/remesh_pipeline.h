@@ -414,11 +414,9 @@ private:
     std::unique_ptr<ReferenceSurface<MeshType>> reference;
     OutputTargets targets; // the causes are filled in by the clean stage
     MeshType backup;
-    CoordinateFrame<MeshType> frame;        // the stages run in it; m leaves it on output
-    bool inFrame = false;                   // whether m is in the recentred frame now
-    bool cvtSkipped = false;                // the input was a remesh at L already (Params::skipCvtOnRemesh)
-    std::optional<double> rarResolutionGap; // RarResolutionGap, once computed
-    bool remeshValencesMet = false;         // the remesh's V567 is at the verdict's target
+    CoordinateFrame<MeshType> frame; // the stages run in it; m leaves it on output
+    bool inFrame = false;            // whether m is in the recentred frame now
+    bool cvtSkipped = false;         // the input was a remesh at L already (Params::skipCvtOnRemesh)
     bool remeshKept = false; // ... with RAR's resolution: valence, RAR, polish skipped (skipRarOnRemesh)
 
     RunState(MeshType& mesh, const Params& p, const std::function<void(const std::string&)>& logger)
@@ -615,10 +613,10 @@ private:
 
   static std::string RunCvt(RunState& run, std::string& summary) {
     run.EnsureTargetLength();
-    if (std::string remesh = AlreadyRemeshed(run); !remesh.empty()) {
+    if (const RemeshFinding remesh = AlreadyRemeshed(run); !remesh.why.empty()) {
       run.cvtSkipped = true;
-      summary = "CVT skipped: " + remesh;
-      if (std::string kept = RemeshAtItsResolution(run); !kept.empty()) {
+      summary = "CVT skipped: " + remesh.why;
+      if (std::string kept = KeptAsItIs(run, remesh); !kept.empty()) {
         run.remeshKept = true;
         summary += "; kept as it is (valence, RAR and polish skipped): " + kept;
       }
@@ -635,8 +633,17 @@ private:
     return {};
   }
 
-  /// Why run.m is a remesh at the target length already (Params::skipCvtOnRemesh), or "".
-  static std::string AlreadyRemeshed(RunState& run) {
+  /// What AlreadyRemeshed finds: why run.m is a remesh at L ("" when it is not), its mean edge
+  /// length, whether its V567 is at the verdict's target, and RarResolutionGap when it was needed.
+  struct RemeshFinding {
+    std::string why;
+    double meanEdge = 0;
+    bool valencesMet = false;
+    std::optional<double> rarGap;
+  };
+
+  /// Whether run.m is a remesh at the target length already (Params::skipCvtOnRemesh).
+  static RemeshFinding AlreadyRemeshed(RunState& run) {
     const Params& params = run.params;
     const double L = run.result.targetEdgeLength;
     // A vertex count asks CVT for its own L; parameters CVT refuses are reported by the stage itself.
@@ -654,50 +661,52 @@ private:
     // Only a valid surface counts: CVT's own checks refuse a non-manifold or open one.
     const QualityReport shape = MeshQuality<MeshType>::Compute(run.m, NoIntersections(params.threads));
     if (!shape.isTwoManifold() || shape.boundaryEdges != 0 || shape.degenerateFaces != 0) return {};
-    run.remeshValencesMet = shape.interiorVertices == 0 || shape.v567Percent >= run.targets.minV567Percent;
-    const double meanEdge = MeanEdgeLength(run.m);
-    if (std::fabs(meanEdge - L) > params.cvtSkipLengthTolerance * L &&
-        RarResolutionGap(run) > params.rarSkipLengthTolerance)
-      return {};
+    RemeshFinding found;
+    found.meanEdge = MeanEdgeLength(run.m);
+    if (std::fabs(found.meanEdge - L) > params.cvtSkipLengthTolerance * L) {
+      found.rarGap = RarResolutionGap(run, found.meanEdge);
+      if (!(*found.rarGap <= params.rarSkipLengthTolerance)) return {};
+    }
+    found.valencesMet = shape.interiorVertices == 0 || shape.v567Percent >= run.targets.minV567Percent;
     std::ostringstream s;
     s << "the mesh is a remesh at L already (angles " << lo << " .. " << hi << " degrees, mean edge "
-      << meanEdge / L << " L)";
-    return s.str();
+      << found.meanEdge / L << " L)";
+    found.why = s.str();
+    return found;
   }
 
-  /// Why run.m, a remesh at L already, is kept as it is (Params::skipRarOnRemesh), or "".
-  static std::string RemeshAtItsResolution(RunState& run) {
+  /// Why run.m, found a remesh at L, is kept as it is (Params::skipRarOnRemesh), or "".
+  static std::string KeptAsItIs(RunState& run, const RemeshFinding& remesh) {
     const Params& params = run.params;
     // Below the V567 target, the valence stages have work to do.
-    if (!run.cvtSkipped || !params.skipRarOnRemesh || !run.remeshValencesMet) return {};
+    if (!params.skipRarOnRemesh || !remesh.valencesMet) return {};
     // The default L, or the mesh's own mean edge length given explicitly (as MeshLab's dialog
     // pre-fills it, rounded to a float).
-    const double own = MeanEdgeLength(run.m), L = run.result.targetEdgeLength;
+    const double own = remesh.meanEdge, L = run.result.targetEdgeLength;
     if (!(params.rar.rar.targetEdgeLength > 0) &&
         (!(params.targetEdgeLength > 0) || std::fabs(L - own) <= 1e-5 * own))
       return "the target length is the mean edge length of a remesh";
-    const double gap = RarResolutionGap(run);
+    const double gap = remesh.rarGap ? *remesh.rarGap : RarResolutionGap(run, own);
     if (!(gap <= params.rarSkipLengthTolerance)) return {};
     std::ostringstream s;
     s << "its mean edge is within " << 100.0 * gap << " % of the one RAR's sizing field at L gives it";
     return s.str();
   }
 
-  /// |mean edge length of RAR's sizing field at L on run.m - run.m's mean edge length|, relative to
-  /// the latter (computed once per run: the stages before RAR that may ask do not change the mesh).
-  static double RarResolutionGap(RunState& run) {
-    if (run.rarResolutionGap) return *run.rarResolutionGap;
+  /// |mean edge length of RAR's sizing field at L on run.m - meanEdge (run.m's)|, relative to meanEdge.
+  static double RarResolutionGap(RunState& run, double meanEdge) {
     const Params& params = run.params;
-    const double L =
-        params.rar.rar.targetEdgeLength > 0 ? params.rar.rar.targetEdgeLength : run.result.targetEdgeLength;
     UpdateAdjacency(run.m, params.threads);
-    const std::vector<double> sizing =
-        AdaptiveRemeshing<MeshType>::ComputeSizing(run.m, L, params.rar.rar, params.threads);
+    const std::vector<double> sizing = AdaptiveRemeshing<MeshType>::ComputeSizing(
+        run.m, RarTargetLength(run), params.rar.rar, params.threads);
     const double field = AdaptiveRemeshing<MeshType>::MeanEdgeOfSizing(run.m, sizing);
-    const double meanEdge = MeanEdgeLength(run.m);
-    run.rarResolutionGap =
-        meanEdge > 0 ? std::fabs(field - meanEdge) / meanEdge : std::numeric_limits<double>::infinity();
-    return *run.rarResolutionGap;
+    return meanEdge > 0 ? std::fabs(field - meanEdge) / meanEdge : std::numeric_limits<double>::infinity();
+  }
+
+  /// RAR's L: its own targetEdgeLength, or the pipeline's.
+  static double RarTargetLength(const RunState& run) {
+    const double own = run.params.rar.rar.targetEdgeLength;
+    return own <= 0 ? run.result.targetEdgeLength : own;
   }
 
   /// Segments run.m with the pipeline's seed into run.result's facePatch and patchCount.
@@ -733,7 +742,7 @@ private:
       segmentSummary = "segmented first: " + std::to_string(seg.patchCount) + " patches\n";
     }
     auto rarParams = run.params.rar;
-    if (rarParams.rar.targetEdgeLength <= 0) rarParams.rar.targetEdgeLength = run.result.targetEdgeLength;
+    rarParams.rar.targetEdgeLength = RarTargetLength(run);
     rarParams.threads = run.params.threads;
     const auto r = PatchwiseRemeshing<MeshType>::Do(run.m, *run.reference, run.result.facePatch, rarParams);
     if (!r.ok) return r.message;
