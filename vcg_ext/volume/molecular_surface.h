@@ -33,6 +33,7 @@
 #include <vcg_ext/structure/atoms.h>
 #include <vcg_ext/volume/atom_fields.h>
 #include <vcg_ext/volume/level_set_grid.h>
+#include <vcg_ext/volume/sas_distance.h>
 #include <vcg_ext/volume/sphere_creases.h>
 
 #include <openvdb/tools/MeshToVolume.h>
@@ -232,6 +233,22 @@ openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& grid, do
   return distance;
 }
 
+/// Replaces the values of `grid` within `band` of `level` by the exact field's (the rebuilt SAS
+/// depth overestimates it under creases and corners by up to a voxel, see sas_distance.h). The
+/// rebuilt values err on the deep side only, so the band reaches one voxel further down.
+template <class Field>
+void MakeExactNear(openvdb::FloatGrid& grid, const Field& field, double level, double band) {
+  const double h = grid.voxelSize()[0];
+  const float low = float(level - band - h), high = float(level + band);
+  const openvdb::math::Transform& xform = grid.transform();
+  openvdb::tools::foreach (grid.beginValueOn(), [&](const openvdb::FloatGrid::ValueOnIter& it) {
+    if (*it < low || *it > high) return;
+    const openvdb::Vec3d w = xform.indexToWorld(it.getCoord());
+    Point gradient;
+    it.setValue(float(field(Point(w[0], w[1], w[2]), gradient)));
+  });
+}
+
 /// The opening by a ball of radius rho of the region {field < level}, as a signed distance grid
 /// whose zero isosurface bounds it: the region eroded by rho (its signed distance below -rho), then
 /// dilated by rho (the signed distance to the eroded region, below rho).
@@ -321,6 +338,12 @@ private:
   }
 
   /// Probe inner band of the SES rebuild, in voxels: the probe plus room for interpolation.
+  /// Voxels on each side of the SES level where the rebuilt SAS depth is replaced by the exact one:
+  /// the mesher's and the triquadratic sampler's reach.
+  static constexpr double kExactBand = 2.0;
+  /// Of a voxel: where a projection onto the exact SES depth stops (its first step lands on it).
+  static constexpr double kExactTolerance = 1e-6;
+
   static float InnerBandVoxels(const Params& p) { return float(p.probeRadius / p.gridSpacing) + 2.0f; }
 
   static bool CheckMemory(const std::vector<Atom>& atoms, const Params& p, MolecularSurfaceResult& r) {
@@ -402,6 +425,8 @@ private:
     FloatGrid::Ptr exact =
         surface_detail::SignedDistanceToLevel(*grid, 0.0, balls, h, InnerBandVoxels(p), p.threads);
     grid.reset();
+    const SasBoundaryDistance sasDepth(atoms, p.probeRadius, p.probeRadius + (kExactBand + 1) * h, p.threads);
+    surface_detail::MakeExactNear(*exact, sasDepth, -p.probeRadius, kExactBand * h);
     if (p.minFeatureRadius > 0) {
       Step(p, SesShare::kOpening, "opening necks and cusps thinner than the grid");
       FloatGrid::Ptr opened =
@@ -414,13 +439,13 @@ private:
       // Away from the removed features the opening is the SES itself: a last short move onto it
       // takes out the two re-distancings' inward bias (a few hundredths of an Å) and stays within
       // a quarter voxel of the opening where it differs.
-      ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, 0.25 * h, p.threads);
+      ProjectVerticesToLevel(m, sasDepth, -p.probeRadius, 0.25 * h, p.threads, kExactTolerance * h);
       return;
     }
     Step(p, SesShare::kExtraction, "extracting the isosurface");
     LevelSetToMesh(*exact, m, -p.probeRadius);
     Step(p, SesShare::kProjection, "projecting onto the solvent-excluded surface");
-    ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, h, p.threads);
+    ProjectVerticesToLevel(m, sasDepth, -p.probeRadius, h, p.threads, kExactTolerance * h);
   }
 
   /// Where the SES's steps start, as fractions of its build (4JSV's SES at 0.4 Å, 95 s: rasterizing
