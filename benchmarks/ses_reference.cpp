@@ -1,5 +1,5 @@
-// The analytic solvent-excluded surface of a structure file's atoms, by BALL (Connolly's
-// algorithm, as libball1.5 implements it), as JSON: the reference for the SES that
+// The analytic solvent-excluded surface of a structure file's atoms, by BALL (libball1.5's
+// calculateSESArea and calculateSESVolume), as JSON: the reference for the SES that
 // `molremesh surface` extracts. The atoms and radii are molremesh's own (its reader, its
 // defaults), so both measure the same balls. Usage: ses_reference STRUCTURE [--probe R]
 #include <vcg_ext/structure/structure_file.h>

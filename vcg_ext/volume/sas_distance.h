@@ -107,6 +107,11 @@ public:
     return -best.distance;
   }
 
+  /// The exposed SAS vertices (where three spheres meet, in no other sphere), sorted by cell.
+  const std::vector<Point>& ExposedVertices() const { return corners_; }
+  /// The depth up to which the field is exact.
+  double Reach() const { return reach_; }
+
 private:
   struct Sphere {
     std::uint32_t index;
