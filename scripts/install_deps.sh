@@ -26,7 +26,7 @@ packages=(
 )
 for option in "$@"; do
   case "$option" in
-  --benchmarks) packages+=(libcgal-dev python3-matplotlib) ;;
+  --benchmarks) packages+=(libcgal-dev libball1.5-dev python3-matplotlib) ;;
   --pictures) packages+=(imagemagick xdotool) ;;
   --unseen) packages+=(edtsurf python3-pymol python3-skimage) ;;
   --pymeshlab) packages+=(pybind11-dev python3-dev python3-numpy libqt5svg5-dev) ;;

@@ -147,13 +147,15 @@ private:
   double step_;
 };
 
-/// Newton steps from x towards field == level, the total move capped at maxMove.
+/// Newton steps from x towards field == level, the total move capped at maxMove; they stop early
+/// once the field is within `tolerance` of the level (an exact distance needs one step).
 template <class Field>
-Point ProjectToLevel(const Point& x, const Field& field, double level, double maxMove, int iterations = 4) {
+Point ProjectToLevel(const Point& x, const Field& field, double level, double maxMove, int iterations = 4,
+                     double tolerance = 0) {
   Point y = x, g;
   for (int it = 0; it < iterations; ++it) {
     const double residual = field(y, g) - level, g2 = g.SquaredNorm();
-    if (!(g2 > 1e-24) || !std::isfinite(residual)) break;
+    if (!(g2 > 1e-24) || !std::isfinite(residual) || std::fabs(residual) <= tolerance) break;
     y -= g * (residual / g2);
     const Point move = y - x;
     if (move.Norm() > maxMove) y = x + move * (maxMove / move.Norm());
@@ -197,7 +199,8 @@ void RevertCrossingMoves(MeshType& m, const std::vector<Point>& before, int thre
 /// degenerate) is put back, until no face is flipped, and so are the vertices of faces the moves
 /// made cross (RevertCrossingMoves).
 template <class MeshType, class Field>
-void ProjectVerticesToLevel(MeshType& m, const Field& field, double level, double maxMove, int threads = 0) {
+void ProjectVerticesToLevel(MeshType& m, const Field& field, double level, double maxMove, int threads = 0,
+                            double tolerance = 0) {
   using CoordType = typename MeshType::CoordType;
   using ScalarType = typename MeshType::ScalarType;
   std::vector<Point> before(m.vert.size());
@@ -205,7 +208,7 @@ void ProjectVerticesToLevel(MeshType& m, const Field& field, double level, doubl
     for (std::size_t i = begin; i < end; ++i) {
       before[i] = PositionOf(&m.vert[i]);
       if (m.vert[i].IsD()) continue;
-      const Point p = ProjectToLevel(before[i], field, level, maxMove);
+      const Point p = ProjectToLevel(before[i], field, level, maxMove, 4, tolerance);
       m.vert[i].P() = CoordType(ScalarType(p[0]), ScalarType(p[1]), ScalarType(p[2]));
     }
   });

@@ -12,10 +12,12 @@
 // union is the minimum of the sphere distances, exact outside and near the surface); 2. rebuild the
 // field from its zero isosurface (points projected onto the exact spheres) with an inner band wider
 // than the probe, so values inside are true distances to the SAS boundary (the minimum of sphere
-// distances underestimates the depth where balls overlap); 3. extract the isosurface at -probe and
-// project its vertices onto that level of the triquadratically interpolated field; with
-// minFeatureRadius > 0 the body is first opened by that ball (eroded to -probe - rho, dilated by
-// rho through a second distance field), which drops necks and cusps thinner than rho. VdW and SAS
+// distances underestimates the depth where balls overlap); 3. replace its values within two voxels
+// of -probe, and within the probe's reach of every SAS vertex the extracted SAS missed, by the exact
+// depth (sas_distance.h); 4. extract the isosurface at -probe and project its vertices onto the
+// exact depth's level -probe; with minFeatureRadius > 0 the body is first opened by that ball
+// (eroded to -probe - rho, dilated by rho through a second distance field), which drops necks and
+// cusps thinner than rho. VdW and SAS
 // extract step 1's field at 0; the Gaussian sums the atoms' terms over the voxels where each is
 // above 1e-3 of the level; both project the vertices onto their exact field (atom_fields.h).
 // Every closed component of the extraction is kept: an inner one bounds a cavity (its normals
@@ -33,8 +35,10 @@
 #include <vcg_ext/structure/atoms.h>
 #include <vcg_ext/volume/atom_fields.h>
 #include <vcg_ext/volume/level_set_grid.h>
+#include <vcg_ext/volume/sas_distance.h>
 #include <vcg_ext/volume/sphere_creases.h>
 
+#include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/ValueTransformer.h>
 #include <openvdb/tools/ParticlesToLevelSet.h>
@@ -232,6 +236,69 @@ openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& grid, do
   return distance;
 }
 
+/// Replaces the values of `grid` within `band` of `level` by the exact field's (the rebuilt SAS
+/// depth overestimates it under creases and corners by up to a voxel, see sas_distance.h). The
+/// rebuilt values err on the deep side only, so the band reaches one voxel further down.
+template <class Field>
+void MakeExactNear(openvdb::FloatGrid& grid, const Field& field, double level, double band) {
+  const double h = grid.voxelSize()[0];
+  const float low = float(level - band - h), high = float(level + band);
+  const openvdb::math::Transform& xform = grid.transform();
+  openvdb::tools::foreach (grid.beginValueOn(), [&](const openvdb::FloatGrid::ValueOnIter& it) {
+    if (*it < low || *it > high) return;
+    const openvdb::Vec3d w = xform.indexToWorld(it.getCoord());
+    Point gradient;
+    it.setValue(float(field(Point(w[0], w[1], w[2]), gradient)));
+  });
+}
+
+/// Makes the grid exact around the SAS vertices it does not see: a pocket or channel of the SAS's
+/// outside narrower than a voxel is missing from the extracted SAS, so the rebuilt depth puts such
+/// a vertex deep inside although it is on the boundary, and the SES cavity or tunnel the probe
+/// carves from there (probe-sized however small the pocket) is lost. A vertex counts as missed
+/// when the grid puts it more than `missedDepth` deep; every voxel within the field's reach of it
+/// gets the exact depth where that is shallower. Returns the number of missed vertices.
+template <class Field>
+std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid, const Field& field,
+                                          const std::vector<Point>& vertices, double missedDepth,
+                                          int threads) {
+  const double h = grid.voxelSize()[0];
+  const openvdb::math::Transform& xform = grid.transform();
+  std::vector<openvdb::Coord> voxels;
+  std::size_t missed = 0;
+  {
+    openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sample(grid);
+    const int r = int(std::ceil(field.Reach() / h)) + 1;
+    const double reach2 = (field.Reach() + h) * (field.Reach() + h);
+    for (const Point& y : vertices) {
+      if (!(sample.wsSample(openvdb::Vec3d(y[0], y[1], y[2])) < -missedDepth)) continue;
+      ++missed;
+      const openvdb::Coord c = xform.worldToIndexCellCentered(openvdb::Vec3d(y[0], y[1], y[2]));
+      for (int i = -r; i <= r; ++i)
+        for (int j = -r; j <= r; ++j)
+          for (int k = -r; k <= r; ++k) {
+            const openvdb::Coord v = c.offsetBy(i, j, k);
+            const openvdb::Vec3d w = xform.indexToWorld(v);
+            if ((Point(w[0], w[1], w[2]) - y).SquaredNorm() <= reach2) voxels.push_back(v);
+          }
+    }
+  }
+  std::sort(voxels.begin(), voxels.end());
+  voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
+  std::vector<float> depth(voxels.size());
+  ParallelFor(voxels.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+    for (std::size_t n = begin; n < end; ++n) {
+      const openvdb::Vec3d w = xform.indexToWorld(voxels[n]);
+      Point gradient;
+      depth[n] = float(field(Point(w[0], w[1], w[2]), gradient));
+    }
+  });
+  openvdb::FloatGrid::Accessor access = grid.getAccessor();
+  for (std::size_t n = 0; n < voxels.size(); ++n) // serial: a new voxel may allocate a leaf
+    if (depth[n] > access.getValue(voxels[n])) access.setValue(voxels[n], depth[n]);
+  return missed;
+}
+
 /// The opening by a ball of radius rho of the region {field < level}, as a signed distance grid
 /// whose zero isosurface bounds it: the region eroded by rho (its signed distance below -rho), then
 /// dilated by rho (the signed distance to the eroded region, below rho).
@@ -321,6 +388,15 @@ private:
   }
 
   /// Probe inner band of the SES rebuild, in voxels: the probe plus room for interpolation.
+  /// Voxels on each side of the SES level where the rebuilt SAS depth is replaced by the exact one:
+  /// the mesher's and the triquadratic sampler's reach.
+  static constexpr double kExactBand = 2.0;
+  /// Of a voxel: where a projection onto the exact SES depth stops (its first step lands on it).
+  static constexpr double kExactTolerance = 1e-6;
+  /// Of a voxel: how deep the rebuilt SAS depth may put a SAS vertex it sees (its flat triangles
+  /// cut the vertex's concave corner off) before the vertex counts as missed.
+  static constexpr double kMissedDepth = 1.0;
+
   static float InnerBandVoxels(const Params& p) { return float(p.probeRadius / p.gridSpacing) + 2.0f; }
 
   static bool CheckMemory(const std::vector<Atom>& atoms, const Params& p, MolecularSurfaceResult& r) {
@@ -402,6 +478,10 @@ private:
     FloatGrid::Ptr exact =
         surface_detail::SignedDistanceToLevel(*grid, 0.0, balls, h, InnerBandVoxels(p), p.threads);
     grid.reset();
+    const SasBoundaryDistance sasDepth(atoms, p.probeRadius, p.probeRadius + (kExactBand + 1) * h, p.threads);
+    surface_detail::MakeExactNear(*exact, sasDepth, -p.probeRadius, kExactBand * h);
+    surface_detail::MakeExactAroundMissedVertices(*exact, sasDepth, sasDepth.ExposedVertices(),
+                                                  kMissedDepth * h, p.threads);
     if (p.minFeatureRadius > 0) {
       Step(p, SesShare::kOpening, "opening necks and cusps thinner than the grid");
       FloatGrid::Ptr opened =
@@ -414,13 +494,13 @@ private:
       // Away from the removed features the opening is the SES itself: a last short move onto it
       // takes out the two re-distancings' inward bias (a few hundredths of an Å) and stays within
       // a quarter voxel of the opening where it differs.
-      ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, 0.25 * h, p.threads);
+      ProjectVerticesToLevel(m, sasDepth, -p.probeRadius, 0.25 * h, p.threads, kExactTolerance * h);
       return;
     }
     Step(p, SesShare::kExtraction, "extracting the isosurface");
     LevelSetToMesh(*exact, m, -p.probeRadius);
     Step(p, SesShare::kProjection, "projecting onto the solvent-excluded surface");
-    ProjectVerticesToLevel(m, QuadraticGridField(*exact), -p.probeRadius, h, p.threads);
+    ProjectVerticesToLevel(m, sasDepth, -p.probeRadius, h, p.threads, kExactTolerance * h);
   }
 
   /// Where the SES's steps start, as fractions of its build (4JSV's SES at 0.4 Å, 95 s: rasterizing

@@ -1,0 +1,314 @@
+// The exact depth of a point inside the solvent-accessible surface: its distance to the nearest
+// point of the SAS boundary, the field whose level -probe is the solvent-excluded surface.
+//
+// The SAS boundary is made of exposed sphere patches (radius r + probe), the arcs where two of them
+// meet (concave creases) and the points where three meet (SAS vertices). The nearest boundary point
+// of x is the radial projection onto a sphere, the closest point of a crease circle, or a SAS vertex,
+// whichever of those is not buried in another sphere and is nearest: where the projection onto a
+// sphere is buried, the nearest exposed point of that sphere is on an arc bounding its patch, and
+// where the closest point of a circle is buried, the nearest exposed point of the circle is an arc's
+// end, a SAS vertex (the distance along a circle has one minimum). The SES's toroidal patches are at
+// probe distance from the creases, its reentrant spherical patches from the SAS vertices.
+//
+// A distance field rebuilt from an extracted SAS mesh cuts those creases with chords and their
+// corners with flat triangles, so it overestimates the depth under them and puts the SES's
+// reentrant patches up to several tenths of an Å too far out (1UBQ at 0.4 Å: SES area -4.2 % and
+// volume +2.3 % against BALL's analytic SES; both errors linear in the grid spacing).
+#pragma once
+
+#include <vcg_ext/core/parallel_for.h>
+#include <vcg_ext/geometry/point.h>
+#include <vcg_ext/structure/atoms.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace molremesh {
+
+class SasBoundaryDistance {
+public:
+  /// The SAS of the atoms' balls grown by `probe`; exact for points whose distance to the SAS
+  /// boundary is at most `reach` (the deeper ones get a value of at most -reach).
+  SasBoundaryDistance(const std::vector<Atom>& atoms, double probe, double reach, int threads = 0)
+      : reach_(reach) {
+    double largest = 0;
+    Point lo(1e300, 1e300, 1e300), hi(-1e300, -1e300, -1e300);
+    for (const Atom& a : atoms) {
+      largest = std::max(largest, a.radius + probe);
+      for (int k = 0; k < 3; ++k) {
+        lo[k] = std::min(lo[k], a.position[k]);
+        hi[k] = std::max(hi[k], a.position[k]);
+      }
+    }
+    // A sphere whose surface is within reach of x has its centre within largest + reach of x.
+    largest_ = largest;
+    query_ = largest + reach;
+    origin_ = lo;
+    for (int k = 0; k < 3; ++k) size_[k] = atoms.empty() ? 1 : long((hi[k] - lo[k]) / kCell) + 1;
+    std::vector<std::size_t> cellOf(atoms.size());
+    start_.assign(std::size_t(size_[0] * size_[1] * size_[2]) + 1, 0);
+    for (std::size_t i = 0; i < atoms.size(); ++i) {
+      cellOf[i] =
+          CellIndex(CellOf(atoms[i].position, 0), CellOf(atoms[i].position, 1), CellOf(atoms[i].position, 2));
+      ++start_[cellOf[i] + 1];
+    }
+    for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
+    std::vector<std::size_t> fill(start_.begin(), start_.end() - 1);
+    centres_.resize(atoms.size());
+    radii_.resize(atoms.size());
+    for (std::size_t i = 0; i < atoms.size(); ++i) { // in atom order within a cell: deterministic
+      const std::size_t at = fill[cellOf[i]]++;
+      centres_[at] = atoms[i].position;
+      radii_[at] = atoms[i].radius + probe;
+    }
+    FindExposedCorners(threads);
+  }
+
+  /// Minus the distance from x to the SAS boundary (x inside the SAS, negative), or the distance
+  /// to the union of balls (x outside, positive); the gradient points from x to the nearest
+  /// boundary point (inside) or away from the nearest ball (outside).
+  double operator()(const Point& x, Point& gradient) const {
+    Around around;
+    std::vector<Sphere>& near = around.near;
+    bool inside = false;
+    double outside = 1e300;
+    Point away(0, 0, 0);
+    ForNear(x, query_, [&](std::uint32_t i) {
+      const Point d = x - centres_[i];
+      const double n = d.Norm(), gap = n - radii_[i];
+      if (gap < 0) inside = true;
+      if (gap < outside && n > 0) {
+        outside = gap;
+        away = d / n;
+      }
+      if (std::fabs(gap) <= reach_)
+        near.push_back({i, std::fabs(gap)});
+      else if (gap < 0)
+        around.buried.push_back(i);
+    });
+    if (!inside) {
+      gradient = away;
+      return outside;
+    }
+    std::sort(near.begin(), near.end(), [](const Sphere& a, const Sphere& b) {
+      return a.gap < b.gap || (a.gap == b.gap && a.index < b.index);
+    });
+    Nearest best{reach_, Point(0, 0, 0), false};
+    Corners(x, best); // first: a cheap look-up whose bound cuts the other two short
+    Spheres(x, around, best);
+    Circles(x, around, best);
+    if (!best.found) {
+      gradient = Point(0, 0, 0);
+      return -reach_;
+    }
+    gradient = (best.point - x) / best.distance;
+    return -best.distance;
+  }
+
+  /// The exposed SAS vertices (where three spheres meet, in no other sphere), sorted by cell.
+  const std::vector<Point>& ExposedVertices() const { return corners_; }
+  /// The depth up to which the field is exact.
+  double Reach() const { return reach_; }
+
+private:
+  struct Sphere {
+    std::uint32_t index;
+    double gap; ///< | |x - centre| - radius |: a lower bound of the distance to its points
+  };
+  /// The spheres around a query point: those whose surface is within reach (sorted by that
+  /// distance), and those it is deeper in.
+  struct Around {
+    std::vector<Sphere> near;
+    std::vector<std::uint32_t> buried;
+  };
+  struct Nearest {
+    double distance;
+    Point point;
+    bool found;
+  };
+
+  void Consider(const Point& x, const Point& y, Nearest& best, const Around& around, std::uint32_t a,
+                std::uint32_t b, std::uint32_t c) const {
+    const double d = (y - x).Norm();
+    if (!(d < best.distance) || !Exposed(y, around, a, b, c)) return;
+    best = {d, y, true};
+  }
+
+  /// y is on the boundary: in no sphere but a, b, c (those it lies on).
+  bool Exposed(const Point& y, const Around& around, std::uint32_t a, std::uint32_t b,
+               std::uint32_t c) const {
+    auto covers = [&](std::uint32_t i) {
+      return i != a && i != b && i != c && (y - centres_[i]).SquaredNorm() < radii_[i] * radii_[i] * kInside;
+    };
+    for (const Sphere& s : around.near)
+      if (covers(s.index)) return false;
+    for (std::uint32_t i : around.buried)
+      if (covers(i)) return false;
+    return true;
+  }
+
+  void Spheres(const Point& x, const Around& around, Nearest& best) const {
+    for (const Sphere& s : around.near) {
+      if (!(s.gap < best.distance)) break; // sorted by the lower bound
+      const Point d = x - centres_[s.index];
+      const double n = d.Norm();
+      if (n > 0)
+        Consider(x, centres_[s.index] + d * (radii_[s.index] / n), best, around, s.index, s.index, s.index);
+    }
+  }
+
+  void Circles(const Point& x, const Around& around, Nearest& best) const {
+    const std::vector<Sphere>& near = around.near;
+    for (std::size_t i = 0; i < near.size() && near[i].gap < best.distance; ++i)
+      for (std::size_t j = i + 1; j < near.size() && near[j].gap < best.distance; ++j) {
+        Point centre, axis;
+        double rho;
+        const std::uint32_t a = near[i].index, b = near[j].index;
+        if (!Circle(a, b, centre, axis, rho)) continue;
+        Point radial = x - centre;
+        radial -= axis * (radial * axis);
+        const double n = radial.Norm();
+        if (n > 0) Consider(x, centre + radial * (rho / n), best, around, a, b, b);
+      }
+  }
+
+  /// The nearest exposed SAS vertex, if nearer than best (they were found once, FindExposedCorners).
+  void Corners(const Point& x, Nearest& best) const {
+    long from[3], to[3];
+    for (int k = 0; k < 3; ++k) {
+      from[k] = std::max(0L, long(std::floor((x[k] - best.distance - origin_[k]) / kCell)));
+      to[k] = std::min(size_[k] - 1, long(std::floor((x[k] + best.distance - origin_[k]) / kCell)));
+    }
+    for (long i = from[0]; i <= to[0]; ++i)
+      for (long j = from[1]; j <= to[1]; ++j)
+        for (long k = from[2]; k <= to[2]; ++k) {
+          const std::size_t c = CellIndex(i, j, k);
+          for (std::size_t v = cornerStart_[c]; v < cornerStart_[c + 1]; ++v) {
+            const double d = (corners_[v] - x).Norm();
+            if (d < best.distance) best = {d, corners_[v], true};
+          }
+        }
+  }
+
+  /// The points where three spheres meet that lie on no other sphere (the SAS vertices), sorted
+  /// into the cells: per sphere a in cell order, the corners with two later spheres b < c.
+  void FindExposedCorners(int threads) {
+    const std::size_t n = centres_.size();
+    std::vector<std::vector<Point>> found(n);
+    ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
+      std::vector<std::uint32_t> partners;
+      for (std::size_t a = begin; a < end; ++a) {
+        partners.clear();
+        ForNear(centres_[a], 2 * largest_, [&](std::uint32_t b) {
+          if (b > a && Meet(std::uint32_t(a), b)) partners.push_back(b);
+        });
+        std::sort(partners.begin(), partners.end());
+        for (std::size_t i = 0; i < partners.size(); ++i)
+          for (std::size_t j = i + 1; j < partners.size(); ++j) {
+            Point y[2];
+            const std::uint32_t b = partners[i], c = partners[j];
+            if (!Meet(b, c) || !Corner(std::uint32_t(a), b, c, y)) continue;
+            for (const Point& corner : y)
+              if (ExposedCorner(corner, std::uint32_t(a), b, c)) found[a].push_back(corner);
+          }
+      }
+    });
+    cornerStart_.assign(start_.size(), 0);
+    for (const auto& list : found)
+      for (const Point& y : list) ++cornerStart_[CellIndex(CellOf(y, 0), CellOf(y, 1), CellOf(y, 2)) + 1];
+    for (std::size_t c = 1; c < cornerStart_.size(); ++c) cornerStart_[c] += cornerStart_[c - 1];
+    std::vector<std::size_t> fill(cornerStart_.begin(), cornerStart_.end() - 1);
+    corners_.resize(cornerStart_.back());
+    for (const auto& list : found)
+      for (const Point& y : list) corners_[fill[CellIndex(CellOf(y, 0), CellOf(y, 1), CellOf(y, 2))]++] = y;
+  }
+
+  bool Meet(std::uint32_t a, std::uint32_t b) const {
+    const double r = radii_[a] + radii_[b];
+    return (centres_[a] - centres_[b]).SquaredNorm() < r * r;
+  }
+
+  bool ExposedCorner(const Point& y, std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
+    bool exposed = true;
+    ForNear(y, largest_, [&](std::uint32_t i) {
+      if (exposed && i != a && i != b && i != c &&
+          (y - centres_[i]).SquaredNorm() < radii_[i] * radii_[i] * kInside)
+        exposed = false;
+    });
+    return exposed;
+  }
+
+  /// The circle where spheres a and b meet; false when they do not.
+  bool Circle(std::uint32_t a, std::uint32_t b, Point& centre, Point& axis, double& rho) const {
+    const Point ab = centres_[b] - centres_[a];
+    const double d = ab.Norm(), ra = radii_[a], rb = radii_[b];
+    if (!(d > 0) || d >= ra + rb || d <= std::fabs(ra - rb)) return false;
+    axis = ab / d;
+    const double along = (d * d + ra * ra - rb * rb) / (2 * d), rho2 = ra * ra - along * along;
+    if (!(rho2 > 0)) return false;
+    centre = centres_[a] + axis * along;
+    rho = std::sqrt(rho2);
+    return true;
+  }
+
+  /// The two points where spheres a, b and c meet; false when they do not.
+  bool Corner(std::uint32_t a, std::uint32_t b, std::uint32_t c, Point y[2]) const {
+    Point centre, axis;
+    double rho;
+    if (!Circle(a, b, centre, axis, rho)) return false;
+    // The circle's plane cut with sphere c: a circle around c's foot in the plane.
+    const double lift = (centres_[c] - centre) * axis;
+    const double rc2 = radii_[c] * radii_[c] - lift * lift;
+    if (!(rc2 > 0)) return false;
+    const Point foot = centres_[c] - axis * lift, towards = foot - centre;
+    const double d = towards.Norm(), rc = std::sqrt(rc2);
+    if (!(d > 0) || d >= rho + rc || d <= std::fabs(rho - rc)) return false;
+    const Point u = towards / d, v = axis ^ u;
+    const double along = (d * d + rho * rho - rc2) / (2 * d),
+                 side = std::sqrt(std::max(0.0, rho * rho - along * along));
+    y[0] = centre + u * along + v * side;
+    y[1] = centre + u * along - v * side;
+    return true;
+  }
+
+  /// Visits the spheres whose centre may be within `radius` of x (in the cells that ball touches).
+  template <class Visit>
+  void ForNear(const Point& x, double radius, Visit&& visit) const {
+    long from[3], to[3];
+    for (int k = 0; k < 3; ++k) {
+      from[k] = std::max(0L, long(std::floor((x[k] - radius - origin_[k]) / kCell)));
+      to[k] = std::min(size_[k] - 1, long(std::floor((x[k] + radius - origin_[k]) / kCell)));
+    }
+    const double reach2 = (radius + kCell * 0.8660254037844386) * (radius + kCell * 0.8660254037844386);
+    for (long i = from[0]; i <= to[0]; ++i)
+      for (long j = from[1]; j <= to[1]; ++j)
+        for (long k = from[2]; k <= to[2]; ++k) {
+          const Point middle = origin_ + Point((i + 0.5) * kCell, (j + 0.5) * kCell, (k + 0.5) * kCell);
+          if ((middle - x).SquaredNorm() > reach2) continue;
+          const std::size_t c = CellIndex(i, j, k);
+          for (std::size_t a = start_[c]; a < start_[c + 1]; ++a) visit(std::uint32_t(a));
+        }
+  }
+  long CellOf(const Point& p, int k) const {
+    return std::min(size_[k] - 1, std::max(0L, long(std::floor((p[k] - origin_[k]) / kCell))));
+  }
+  std::size_t CellIndex(long i, long j, long k) const {
+    return std::size_t((i * size_[1] + j) * size_[2] + k);
+  }
+
+  static constexpr double kCell = 1.5; ///< Å, edge of the cells the spheres are sorted in
+  /// A point on a sphere computed from another sphere's circle is not "inside" it by rounding.
+  static constexpr double kInside = 1.0 - 1e-9;
+  double reach_, largest_ = 0, query_ = 0;
+  Point origin_;
+  long size_[3] = {1, 1, 1};
+  std::vector<std::size_t> start_;       ///< per cell: its first sphere; one past the last at the end
+  std::vector<Point> centres_;           ///< sorted by cell
+  std::vector<double> radii_;            ///< r + probe, in the same order
+  std::vector<std::size_t> cornerStart_; ///< per cell: its first SAS vertex, as start_
+  std::vector<Point> corners_;           ///< the exposed SAS vertices, sorted by cell
+};
+
+} // namespace molremesh
