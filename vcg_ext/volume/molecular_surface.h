@@ -236,16 +236,21 @@ openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& grid, do
   return distance;
 }
 
-/// Replaces the values of `grid` within `band` of `level` by the exact field's (the rebuilt SAS
-/// depth overestimates it under creases and corners by up to a voxel, see sas_distance.h). The
-/// rebuilt values err on the deep side only, so the band reaches one voxel further down.
+/// The values MakeExactNear replaces: those within `band` of `level`, and one voxel further down,
+/// since the rebuilt depth errs on the deep side only.
+struct ExactBand {
+  float low, high;
+  ExactBand(double level, double band, double h) : low(float(level - band - h)), high(float(level + band)) {}
+  bool Holds(float value) const { return !(value < low || value > high); }
+};
+
+/// Replaces the values of `grid` in the band by the exact field's (the rebuilt SAS depth
+/// overestimates it under creases and corners by up to a voxel, see sas_distance.h).
 template <class Field>
-void MakeExactNear(openvdb::FloatGrid& grid, const Field& field, double level, double band) {
-  const double h = grid.voxelSize()[0];
-  const float low = float(level - band - h), high = float(level + band);
+void MakeExactNear(openvdb::FloatGrid& grid, const Field& field, const ExactBand& band) {
   const openvdb::math::Transform& xform = grid.transform();
   openvdb::tools::foreach (grid.beginValueOn(), [&](const openvdb::FloatGrid::ValueOnIter& it) {
-    if (*it < low || *it > high) return;
+    if (!band.Holds(*it)) return;
     const openvdb::Vec3d w = xform.indexToWorld(it.getCoord());
     Point gradient;
     it.setValue(float(field(Point(w[0], w[1], w[2]), gradient)));
@@ -257,11 +262,11 @@ void MakeExactNear(openvdb::FloatGrid& grid, const Field& field, double level, d
 /// a vertex deep inside although it is on the boundary, and the SES cavity or tunnel the probe
 /// carves from there (probe-sized however small the pocket) is lost. A vertex counts as missed
 /// when the grid puts it more than `missedDepth` deep; every voxel within the field's reach of it
-/// gets the exact depth where that is shallower. Returns the number of missed vertices.
+/// gets the exact depth where that is shallower, but those MakeExactNear made exact already.
+/// Returns the number of missed vertices.
 template <class Field>
 std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid, const Field& field,
-                                          const std::vector<Point>& vertices, double missedDepth,
-                                          int threads) {
+                                          const ExactBand& exact, double missedDepth, int threads) {
   const double h = grid.voxelSize()[0];
   const openvdb::math::Transform& xform = grid.transform();
   std::vector<openvdb::Coord> voxels;
@@ -270,7 +275,12 @@ std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid, const Field&
     openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sample(grid);
     const int r = int(std::ceil(field.Reach() / h)) + 1;
     const double reach2 = (field.Reach() + h) * (field.Reach() + h);
-    for (const Point& y : vertices) {
+    openvdb::FloatGrid::ConstAccessor values = grid.getConstAccessor();
+    auto madeExact = [&](const openvdb::Coord& v) {
+      float value;
+      return values.probeValue(v, value) && exact.Holds(value);
+    };
+    for (const Point& y : field.ExposedVertices()) {
       if (!(sample.wsSample(openvdb::Vec3d(y[0], y[1], y[2])) < -missedDepth)) continue;
       ++missed;
       const openvdb::Coord c = xform.worldToIndexCellCentered(openvdb::Vec3d(y[0], y[1], y[2]));
@@ -279,7 +289,7 @@ std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid, const Field&
           for (int k = -r; k <= r; ++k) {
             const openvdb::Coord v = c.offsetBy(i, j, k);
             const openvdb::Vec3d w = xform.indexToWorld(v);
-            if ((Point(w[0], w[1], w[2]) - y).SquaredNorm() <= reach2) voxels.push_back(v);
+            if ((Point(w[0], w[1], w[2]) - y).SquaredNorm() <= reach2 && !madeExact(v)) voxels.push_back(v);
           }
     }
   }
@@ -479,9 +489,9 @@ private:
         surface_detail::SignedDistanceToLevel(*grid, 0.0, balls, h, InnerBandVoxels(p), p.threads);
     grid.reset();
     const SasBoundaryDistance sasDepth(atoms, p.probeRadius, p.probeRadius + (kExactBand + 1) * h, p.threads);
-    surface_detail::MakeExactNear(*exact, sasDepth, -p.probeRadius, kExactBand * h);
-    surface_detail::MakeExactAroundMissedVertices(*exact, sasDepth, sasDepth.ExposedVertices(),
-                                                  kMissedDepth * h, p.threads);
+    const surface_detail::ExactBand band(-p.probeRadius, kExactBand * h, h);
+    surface_detail::MakeExactNear(*exact, sasDepth, band);
+    surface_detail::MakeExactAroundMissedVertices(*exact, sasDepth, band, kMissedDepth * h, p.threads);
     if (p.minFeatureRadius > 0) {
       Step(p, SesShare::kOpening, "opening necks and cusps thinner than the grid");
       FloatGrid::Ptr opened =
