@@ -244,16 +244,19 @@ struct ExactBand {
   bool Holds(float value) const { return !(value < low || value > high); }
 };
 
-/// Replaces the values of `grid` in the band by the exact field's (the rebuilt SAS depth
-/// overestimates it under creases and corners by up to a voxel, see sas_distance.h).
-template <class Field>
-void MakeExactNear(openvdb::FloatGrid& grid, const Field& field, const ExactBand& band) {
+/// Replaces the values of `grid` in the band by the exact SAS depth (the rebuilt one
+/// overestimates it under creases and corners by up to a voxel, see sas_distance.h). Elsewhere the
+/// rebuilt values are short of the exact depth by at most the sagitta of the SAS mesh's chords (a
+/// few hundredths of an Å), so a value plus half a voxel bounds the exact search, which then looks
+/// at fewer spheres.
+inline void MakeExactNear(openvdb::FloatGrid& grid, const SasBoundaryDistance& depth, const ExactBand& band) {
+  const double h = grid.voxelSize()[0];
   const openvdb::math::Transform& xform = grid.transform();
   openvdb::tools::foreach (grid.beginValueOn(), [&](const openvdb::FloatGrid::ValueOnIter& it) {
     if (!band.Holds(*it)) return;
     const openvdb::Vec3d w = xform.indexToWorld(it.getCoord());
     Point gradient;
-    it.setValue(float(field(Point(w[0], w[1], w[2]), gradient)));
+    it.setValue(float(depth.Depth(Point(w[0], w[1], w[2]), gradient, std::fabs(*it) + 0.5 * h)));
   });
 }
 
@@ -261,9 +264,10 @@ void MakeExactNear(openvdb::FloatGrid& grid, const Field& field, const ExactBand
 /// outside narrower than a voxel is missing from the extracted SAS, so the rebuilt depth puts such
 /// a vertex deep inside although it is on the boundary, and the SES cavity or tunnel the probe
 /// carves from there (probe-sized however small the pocket) is lost. A vertex counts as missed
-/// when the grid puts it more than `missedDepth` deep; every voxel within the field's reach of it
-/// gets the exact depth where that is shallower, but those MakeExactNear made exact already.
-/// Returns the number of missed vertices.
+/// when the grid puts it more than `missedDepth` deep; the voxels within the depth's reach of it
+/// that are inactive (deeper than the band) or hold a rebuilt value below the band get the exact
+/// depth where that is shallower (those in the band were made exact by MakeExactNear, those above
+/// it are outside the SES either way). Returns the number of missed vertices.
 template <class Field>
 std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid, const Field& field,
                                           const ExactBand& exact, double missedDepth, int threads) {
@@ -276,9 +280,9 @@ std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid, const Field&
     const int r = int(std::ceil(field.Reach() / h)) + 1;
     const double reach2 = (field.Reach() + h) * (field.Reach() + h);
     openvdb::FloatGrid::ConstAccessor values = grid.getConstAccessor();
-    auto madeExact = [&](const openvdb::Coord& v) {
+    auto stillRebuiltDeep = [&](const openvdb::Coord& v) {
       float value;
-      return values.probeValue(v, value) && exact.Holds(value);
+      return !values.probeValue(v, value) || value < exact.low;
     };
     for (const Point& y : field.ExposedVertices()) {
       if (!(sample.wsSample(openvdb::Vec3d(y[0], y[1], y[2])) < -missedDepth)) continue;
@@ -289,7 +293,8 @@ std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid, const Field&
           for (int k = -r; k <= r; ++k) {
             const openvdb::Coord v = c.offsetBy(i, j, k);
             const openvdb::Vec3d w = xform.indexToWorld(v);
-            if ((Point(w[0], w[1], w[2]) - y).SquaredNorm() <= reach2 && !madeExact(v)) voxels.push_back(v);
+            if ((Point(w[0], w[1], w[2]) - y).SquaredNorm() <= reach2 && stillRebuiltDeep(v))
+              voxels.push_back(v);
           }
     }
   }
@@ -308,6 +313,14 @@ std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid, const Field&
     if (depth[n] > access.getValue(voxels[n])) access.setValue(voxels[n], depth[n]);
   return missed;
 }
+
+/// The SAS depth searched within `bound` first (exact all the same, see SasBoundaryDistance::Depth):
+/// for projecting points known to be about that deep.
+struct BoundedSasDepth {
+  const SasBoundaryDistance& depth;
+  double bound;
+  double operator()(const Point& x, Point& gradient) const { return depth.Depth(x, gradient, bound); }
+};
 
 /// The opening by a ball of radius rho of the region {field < level}, as a signed distance grid
 /// whose zero isosurface bounds it: the region eroded by rho (its signed distance below -rho), then
@@ -492,6 +505,7 @@ private:
     const surface_detail::ExactBand band(-p.probeRadius, kExactBand * h, h);
     surface_detail::MakeExactNear(*exact, sasDepth, band);
     surface_detail::MakeExactAroundMissedVertices(*exact, sasDepth, band, kMissedDepth * h, p.threads);
+    const surface_detail::BoundedSasDepth nearSes{sasDepth, p.probeRadius + h};
     if (p.minFeatureRadius > 0) {
       Step(p, SesShare::kOpening, "opening necks and cusps thinner than the grid");
       FloatGrid::Ptr opened =
@@ -504,13 +518,13 @@ private:
       // Away from the removed features the opening is the SES itself: a last short move onto it
       // takes out the two re-distancings' inward bias (a few hundredths of an Å) and stays within
       // a quarter voxel of the opening where it differs.
-      ProjectVerticesToLevel(m, sasDepth, -p.probeRadius, 0.25 * h, p.threads, kExactTolerance * h);
+      ProjectVerticesToLevel(m, nearSes, -p.probeRadius, 0.25 * h, p.threads, kExactTolerance * h);
       return;
     }
     Step(p, SesShare::kExtraction, "extracting the isosurface");
     LevelSetToMesh(*exact, m, -p.probeRadius);
     Step(p, SesShare::kProjection, "projecting onto the solvent-excluded surface");
-    ProjectVerticesToLevel(m, sasDepth, -p.probeRadius, h, p.threads, kExactTolerance * h);
+    ProjectVerticesToLevel(m, nearSes, -p.probeRadius, h, p.threads, kExactTolerance * h);
   }
 
   /// Where the SES's steps start, as fractions of its build (4JSV's SES at 0.4 Å, 95 s: rasterizing

@@ -69,42 +69,18 @@ public:
   /// Minus the distance from x to the SAS boundary (x inside the SAS, negative), or the distance
   /// to the union of balls (x outside, positive); the gradient points from x to the nearest
   /// boundary point (inside) or away from the nearest ball (outside).
-  double operator()(const Point& x, Point& gradient) const {
-    Around around;
-    std::vector<Sphere>& near = around.near;
-    bool inside = false;
-    double outside = 1e300;
-    Point away(0, 0, 0);
-    ForNear(x, query_, [&](std::uint32_t i) {
-      const Point d = x - centres_[i];
-      const double n = d.Norm(), gap = n - radii_[i];
-      if (gap < 0) inside = true;
-      if (gap < outside && n > 0) {
-        outside = gap;
-        away = d / n;
-      }
-      if (std::fabs(gap) <= reach_)
-        near.push_back({i, std::fabs(gap)});
-      else if (gap < 0)
-        around.buried.push_back(i);
-    });
-    if (!inside) {
-      gradient = away;
-      return outside;
+  double operator()(const Point& x, Point& gradient) const { return Depth(x, gradient, reach_); }
+
+  /// The same, searched first within `bound` of x (an upper bound of the depth, such as a rebuilt
+  /// distance field's value: a smaller search), then, if x is not inside within it, within reach.
+  double Depth(const Point& x, Point& gradient, double bound) const {
+    if (bound < reach_) {
+      double depth = 0;
+      if (Search(x, bound, gradient, depth)) return depth;
     }
-    std::sort(near.begin(), near.end(), [](const Sphere& a, const Sphere& b) {
-      return a.gap < b.gap || (a.gap == b.gap && a.index < b.index);
-    });
-    Nearest best{reach_, Point(0, 0, 0), false};
-    Corners(x, best); // first: a cheap look-up whose bound cuts the other two short
-    Spheres(x, around, best);
-    Circles(x, around, best);
-    if (!best.found) {
-      gradient = Point(0, 0, 0);
-      return -reach_;
-    }
-    gradient = (best.point - x) / best.distance;
-    return -best.distance;
+    double depth = 0;
+    Search(x, reach_, gradient, depth);
+    return depth;
   }
 
   /// The exposed SAS vertices (where three spheres meet, in no other sphere), sorted by cell.
@@ -113,6 +89,52 @@ public:
   double Reach() const { return reach_; }
 
 private:
+  /// The depth of x searched within `bound` (at most reach_); false when x is outside the balls
+  /// or no boundary point is within the bound (then depth is not set unless bound == reach_).
+  bool Search(const Point& x, double bound, Point& gradient, double& depth) const {
+    Around around;
+    std::vector<Sphere>& near = around.near;
+    bool inside = false;
+    double outside = 1e300;
+    Point away(0, 0, 0);
+    ForNear(x, largest_ + bound, [&](std::uint32_t i) {
+      const Point d = x - centres_[i];
+      const double n = d.Norm(), gap = n - radii_[i];
+      if (gap < 0) inside = true;
+      if (gap < outside && n > 0) {
+        outside = gap;
+        away = d / n;
+      }
+      if (std::fabs(gap) <= bound)
+        near.push_back({i, std::fabs(gap)});
+      else if (gap < 0)
+        around.buried.push_back(i);
+    });
+    const bool full = bound >= reach_;
+    if (!inside) {
+      if (!full) return false; // the nearest ball may be further than the bound's search
+      gradient = away;
+      depth = outside;
+      return true;
+    }
+    std::sort(near.begin(), near.end(), [](const Sphere& a, const Sphere& b) {
+      return a.gap < b.gap || (a.gap == b.gap && a.index < b.index);
+    });
+    Nearest best{bound, Point(0, 0, 0), false};
+    Corners(x, best); // first: a cheap look-up whose bound cuts the other two short
+    Spheres(x, around, best);
+    Circles(x, around, best);
+    if (!best.found) {
+      if (!full) return false;
+      gradient = Point(0, 0, 0);
+      depth = -reach_;
+      return true;
+    }
+    gradient = (best.point - x) / best.distance;
+    depth = -best.distance;
+    return true;
+  }
+
   struct Sphere {
     std::uint32_t index;
     double gap; ///< | |x - centre| - radius |: a lower bound of the distance to its points
