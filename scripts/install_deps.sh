@@ -15,7 +15,7 @@ packages=(
   build-essential cmake ninja-build pkg-config dpkg-dev ca-certificates
   meshlab
   qtbase5-dev libqt5opengl5-dev libqt5xmlpatterns5-dev libglew-dev
-  libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev libopenvdb-dev
+  libeigen3-dev libtbb-dev libcli11-dev nlohmann-json3-dev libopenvdb-dev libboost-dev
   freesasa libjson-c-dev libxml2-dev zlib1g-dev gemmi-dev tao-pegtl-dev
   snakemake
   libgtest-dev libbenchmark-dev
