@@ -180,13 +180,17 @@ int RunColor(const std::string& input, const std::string& output, double smallAn
   molremesh::BadElementColoring<MeshD>::Params params;
   params.smallAngle = smallAngle;
   params.obtuseAngle = obtuseAngle;
+  // The plugin's colors, so a file colored here looks the same in MeshLab as one colored there.
+  params.palette = molremesh::BadElementColoring<MeshD>::ColorBlindSafePalette();
   const molremesh::BadElementCounts counts = molremesh::BadElementColoring<MeshD>::Do(mesh, params);
   std::string error;
   if (!molremesh::SaveMesh(mesh, output, error, /*withQualityAndColor=*/true)) throw InputError(error);
-  std::cout << "irregular vertices (red): " << counts.irregularVertices << '\n'
-            << "obtuse faces (red or magenta): " << counts.obtuseFaces << '\n'
-            << "small-angle faces (blue or magenta): " << counts.smallAngleFaces << '\n'
-            << "obtuse and small-angle faces (magenta): " << counts.obtuseAndSmallFaces << '\n';
+  std::cout << "irregular vertices: " << counts.irregularVertices
+            << " (valence below 5, bluish green: " << counts.lowValenceVertices
+            << "; above 7, yellow: " << counts.highValenceVertices << ")\n"
+            << "obtuse faces (vermillion, or reddish purple): " << counts.obtuseFaces << '\n'
+            << "small-angle faces (blue, or reddish purple): " << counts.smallAngleFaces << '\n'
+            << "obtuse and small-angle faces (reddish purple): " << counts.obtuseAndSmallFaces << '\n';
   return 0;
 }
 
@@ -388,7 +392,9 @@ CLI::App* AddColorCommand(CLI::App& app, CommandLine& c) {
   color->add_option("--small-angle", c.smallAngle, "Faces with an angle below it are blue (degrees)")
       ->default_val(30.0)
       ->check(Number(0, 60));
-  color->add_option("--obtuse-angle", c.obtuseAngle, "Faces with an angle at or above it are red (degrees)")
+  color
+      ->add_option("--obtuse-angle", c.obtuseAngle,
+                   "Faces with an angle at or above it are vermillion (degrees)")
       ->default_val(90.0)
       ->check(Number(60, 180));
   return color;

@@ -51,8 +51,8 @@ for mesh in "${meshes[@]}"; do
   xvfb-run -a meshlabserver -l "$out/${name}_meshlab_color.log" -i "$mesh" -o "$out/${name}_meshlab_colored.ply" \
     -m vc fc vq fq -s "$repo/meshlabserver_scripts/color_bad_elements.mlx" >/dev/null 2>&1
   grep -E "(Irregular|Obtuse|Small-angle)" "$out/${name}_meshlab_color.log" || true
-  echo "   -> $out/${name}_meshlab_colored.ply (open it in MeshLab: red = irregular vertex / obtuse face," \
-       "blue = angle < 30 deg, magenta = both)"
+  echo "   -> $out/${name}_meshlab_colored.ply (open it in MeshLab: faces vermillion = obtuse, blue = an" \
+       "angle < 30 deg, reddish purple = both; vertices bluish green = valence < 5, yellow = valence > 7)"
   echo
   echo "== $name: the Full Pipeline filter through meshlabserver -> $out/${name}_meshlab_remeshed.ply"
   xvfb-run -a meshlabserver -l "$out/${name}_meshlab_full.log" -i "$mesh" -o "$out/${name}_meshlab_remeshed.ply" \

@@ -13,6 +13,8 @@
 #include <vector>
 
 #include <vcg_ext/io/mesh_io.h>
+#include <vcg_ext/quality/bad_element_coloring.h>
+#include <wrap/io_trimesh/import_ply.h>
 #include <vcg_ext/core/mesh_types.h>
 
 #include "remeshing_test_meshes.h"
@@ -148,13 +150,26 @@ TEST(Cli, ColorWritesPlyAndCountsMatchReport) {
   const CommandResult report = Cli("report --json --no-self-intersections " + Quote(in));
   ASSERT_EQ(report.exitCode, 0) << report.err;
   const auto j = nlohmann::json::parse(report.out);
-  EXPECT_NE(color.out.find("irregular vertices (red): " + std::to_string(j["irregular_vertices"].get<int>())),
+  EXPECT_NE(color.out.find("irregular vertices: " + std::to_string(j["irregular_vertices"].get<int>())),
             std::string::npos)
       << color.out;
-  EXPECT_NE(color.out.find("obtuse faces (red or magenta): " + std::to_string(j["obtuse_faces"].get<int>())),
+  EXPECT_NE(color.out.find("obtuse faces (vermillion, or reddish purple): " +
+                           std::to_string(j["obtuse_faces"].get<int>())),
             std::string::npos)
       << color.out;
-  EXPECT_TRUE(std::filesystem::exists(out));
+  // The plugin's color-blind-safe colors: a face's color says its class, a vertex's its valence class.
+  MeshD colored;
+  int mask = vcg::tri::io::Mask::IOM_VERTCOLOR | vcg::tri::io::Mask::IOM_FACECOLOR;
+  ASSERT_EQ(vcg::tri::io::ImporterPLY<MeshD>::Open(colored, out.c_str(), mask), 0);
+  ASSERT_TRUE(mask & vcg::tri::io::Mask::IOM_FACECOLOR) << "face colors were not saved";
+  const molremesh::BadElementPalette palette = molremesh::BadElementColoring<MeshD>::ColorBlindSafePalette();
+  std::size_t obtuse = 0, irregular = 0;
+  for (const auto& f : colored.face)
+    obtuse += f.cC() == palette.obtuseFace || f.cC() == palette.obtuseAndSmallFace;
+  for (const auto& v : colored.vert)
+    irregular += v.cC() == palette.lowValenceVertex || v.cC() == palette.highValenceVertex;
+  EXPECT_EQ(obtuse, j["obtuse_faces"].get<std::size_t>());
+  EXPECT_EQ(irregular, j["irregular_vertices"].get<std::size_t>());
   std::filesystem::remove_all(dir);
 }
 
@@ -653,7 +668,7 @@ TEST(CliFromAClone, DemoRunsOnTheBundledData) {
                            Quote((clone / "scripts" / "demo.sh").string()) + " --cli-only");
   ASSERT_EQ(demo.exitCode, 0) << demo.out << demo.err;
   for (const char* mesh : {"lysozyme_Lys1_msms", "ubiquitin_1UBQ_edtsurf_mc"}) {
-    ExpectMentions(demo.out, {"quality report (CLI)", "V567", "irregular vertices (red)"});
+    ExpectMentions(demo.out, {"quality report (CLI)", "V567", "irregular vertices: "});
     for (const char* suffix : {"_colored.ply", "_remeshed.ply", "_remeshed.json", "_remeshed_colored.ply"})
       EXPECT_TRUE(std::filesystem::exists(out / (std::string(mesh) + suffix))) << mesh << suffix;
     const auto j = ReadJson((out / (std::string(mesh) + "_remeshed.json")).string());

@@ -268,23 +268,23 @@ inline void MakeExactNear(openvdb::FloatGrid& grid, const SasBoundaryDistance& d
 /// that are inactive (deeper than the band) or hold a rebuilt value below the band get the exact
 /// depth where that is shallower (those in the band were made exact by MakeExactNear, those above
 /// it are outside the SES either way). Returns the number of missed vertices.
-template <class Field>
-std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid, const Field& field,
-                                          const ExactBand& exact, double missedDepth, int threads) {
+inline std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid,
+                                                 const SasBoundaryDistance& sasDepth, const ExactBand& exact,
+                                                 double missedDepth, int threads) {
   const double h = grid.voxelSize()[0];
   const openvdb::math::Transform& xform = grid.transform();
   std::vector<openvdb::Coord> voxels;
   std::size_t missed = 0;
   {
     openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> sample(grid);
-    const int r = int(std::ceil(field.Reach() / h)) + 1;
-    const double reach2 = (field.Reach() + h) * (field.Reach() + h);
+    const int r = int(std::ceil(sasDepth.Reach() / h)) + 1;
+    const double reach2 = (sasDepth.Reach() + h) * (sasDepth.Reach() + h);
     openvdb::FloatGrid::ConstAccessor values = grid.getConstAccessor();
     auto stillRebuiltDeep = [&](const openvdb::Coord& v) {
       float value;
       return !values.probeValue(v, value) || value < exact.low;
     };
-    for (const Point& y : field.ExposedVertices()) {
+    for (const Point& y : sasDepth.ExposedVertices()) {
       if (!(sample.wsSample(openvdb::Vec3d(y[0], y[1], y[2])) < -missedDepth)) continue;
       ++missed;
       const openvdb::Coord c = xform.worldToIndexCellCentered(openvdb::Vec3d(y[0], y[1], y[2]));
@@ -305,7 +305,7 @@ std::size_t MakeExactAroundMissedVertices(openvdb::FloatGrid& grid, const Field&
     for (std::size_t n = begin; n < end; ++n) {
       const openvdb::Vec3d w = xform.indexToWorld(voxels[n]);
       Point gradient;
-      depth[n] = float(field(Point(w[0], w[1], w[2]), gradient));
+      depth[n] = float(sasDepth(Point(w[0], w[1], w[2]), gradient));
     }
   });
   openvdb::FloatGrid::Accessor access = grid.getAccessor();

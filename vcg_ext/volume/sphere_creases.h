@@ -8,7 +8,9 @@
 // crosses their radical plane turns the chord into two, each on one sphere, which leaves the
 // quadratic error of a convex sphere patch. A split can leave new bridging edges (to a third
 // sphere), hence a few passes. A split vertex that would flip or degenerate a face, or make two
-// faces cross, goes back onto its edge (the mesh is then the unsplit surface, subdivided flat).
+// faces cross, is refused and the refinement redone without it (of a spoilt face's moved corners,
+// the one that moved farthest); what is still spoilt after the last attempt goes back onto its
+// edge (the mesh is then the unsplit surface, subdivided flat, there).
 #pragma once
 
 #include <vcg_ext/core/index.h>
@@ -188,8 +190,8 @@ private:
       return pairs;
     }
 
-    /// Where the moves are that spoil a face: the positions of the moved vertices of faces that are
-    /// not Acceptable, or, when all are, of crossing faces.
+    /// Where the moves are that spoil a face: per face that is not Acceptable, the position of its
+    /// corner that moved farthest; when all are, those of every moved corner of crossing faces.
     std::vector<Point> SpoilingMoves(double meanEdge) {
       recordOf.assign(points.size(), kNoIndex);
       for (std::size_t r = 0; r < splits.size(); ++r) recordOf[splits[r].vertex] = Index(r);
@@ -201,7 +203,7 @@ private:
       bool any = false;
       for (std::size_t i = 0; i < tris.size(); ++i)
         if (!Acceptable(i)) {
-          mark(tris[i]);
+          MarkFarthestMove(tris[i], bad);
           any = true;
         }
       if (!any)
@@ -213,6 +215,24 @@ private:
       for (const Split& s : splits)
         if (bad[s.vertex]) spoilt.push_back(points[s.vertex]);
       return spoilt;
+    }
+
+    /// Marks the moved corner of t that moved farthest from where it came from (its edge, or its
+    /// own position when snapped). A face with two moved corners is mostly spoilt by the one that
+    /// moved far; refusing both left about twice as many creases bridged (1UBQ's SAS: 1698 refused
+    /// moves against 895, area -1.14 % against -0.84 % of freesasa's). The other is refused in a
+    /// later attempt if the face is still spoilt.
+    void MarkFarthestMove(const Triangle& t, std::vector<bool>& bad) const {
+      Index farthest = kNoIndex;
+      double largest = -1;
+      for (Index v : t) {
+        if (recordOf[v] == kNoIndex) continue;
+        const Split& s = splits[recordOf[v]];
+        const Point from = s.snapped ? s.original : points[s.u] + (points[s.v] - points[s.u]) * s.t;
+        const double distance = (points[v] - from).Norm();
+        if (distance > largest) largest = distance, farthest = v;
+      }
+      if (farthest != kNoIndex) bad[farthest] = true;
     }
 
     /// Puts back the moved vertices of faces turned against (or collapsed from) the face they came
