@@ -275,10 +275,10 @@ TEST(MolecularSurface, BadInputIsRefusedWithAReason) {
 // SAS and van der Waals mesh areas against freesasa's Lee-Richards areas (same atoms and radii;
 // probe 1.4 Å and 0). Both surfaces have a concave crease wherever two spheres meet, which flat
 // triangles bridge; with vertices on the creases what is left is mostly the flat triangles'
-// quadratic shortfall. Measured at the default 0.4 Å, with crease vertices (without): SAS 1UBQ.pqr
-// -1.13 % (-3.00), BPTI -0.81 (-2.58), lysozyme -0.85 (-2.94), 1UBQ.pdb -1.06 (-3.11); van der
-// Waals -4.31 (-7.25), -7.74 (-12.17: its hydrogens' 1.0 Å spheres at 0.4 Å), -4.06 (-6.57),
-// -2.70 (-5.47); 1UBQ's SAS at 0.3 Å -0.72 %, at 0.2 Å -0.43 %.
+// quadratic shortfall and the creases whose moves were refused. Measured at the default 0.4 Å, with
+// crease vertices (without): SAS 1UBQ.pqr -0.86 % (-3.00), BPTI -0.65 (-2.58), lysozyme -0.66
+// (-2.94), 1UBQ.pdb -0.76 (-3.11); van der Waals -3.44 (-7.25), -6.47 (-12.17: its hydrogens' 1.0 Å
+// spheres at 0.4 Å), -3.20 (-6.57), -2.02 (-5.47); 1UBQ's SAS at 0.3 Å -0.48 %, at 0.2 Å -0.28 %.
 // Every kind is a valid closed surface, crossing-free too: the moves onto the exact spheres fold
 // slivers through their neighbours at concave creases (ubiquitin's van der Waals surface had 14
 // crossing pairs at 0.4 Å) unless they are put back.
