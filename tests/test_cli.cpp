@@ -158,11 +158,12 @@ TEST(Cli, ColorWritesPlyAndCountsMatchReport) {
             std::string::npos)
       << color.out;
   // The plugin's color-blind-safe colors: a face's color says its class, a vertex's its valence class.
-  MeshD colored;
+  molremesh::MeshD colored;
   int mask = vcg::tri::io::Mask::IOM_VERTCOLOR | vcg::tri::io::Mask::IOM_FACECOLOR;
-  ASSERT_EQ(vcg::tri::io::ImporterPLY<MeshD>::Open(colored, out.c_str(), mask), 0);
+  ASSERT_EQ(vcg::tri::io::ImporterPLY<molremesh::MeshD>::Open(colored, out.c_str(), mask), 0);
   ASSERT_TRUE(mask & vcg::tri::io::Mask::IOM_FACECOLOR) << "face colors were not saved";
-  const molremesh::BadElementPalette palette = molremesh::BadElementColoring<MeshD>::ColorBlindSafePalette();
+  const molremesh::BadElementPalette palette =
+      molremesh::BadElementColoring<molremesh::MeshD>::ColorBlindSafePalette();
   std::size_t obtuse = 0, irregular = 0;
   for (const auto& f : colored.face)
     obtuse += f.cC() == palette.obtuseFace || f.cC() == palette.obtuseAndSmallFace;
