@@ -220,7 +220,7 @@ private:
     /// Marks the moved corner of t that moved farthest from where it came from (its edge, or its
     /// own position when snapped). A face with two moved corners is mostly spoilt by the one that
     /// moved far; refusing both left about twice as many creases bridged (1UBQ's SAS: 1698 refused
-    /// moves against 895, area -1.14 % against -0.84 % of freesasa's). The other is refused in a
+    /// moves against 895, area -1.16 % against -0.86 % of freesasa's). The other is refused in a
     /// later attempt if the face is still spoilt.
     void MarkFarthestMove(const Triangle& t, std::vector<bool>& bad) const {
       Index farthest = kNoIndex;
