@@ -13,10 +13,10 @@
 #include <vector>
 
 #include <vcg_ext/io/mesh_io.h>
-#include <vcg_ext/quality/bad_element_coloring.h>
 #include <wrap/io_trimesh/import_ply.h>
 #include <vcg_ext/core/mesh_types.h>
 
+#include "palette_counts.h"
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"
 
@@ -162,15 +162,10 @@ TEST(Cli, ColorWritesPlyAndCountsMatchReport) {
   int mask = vcg::tri::io::Mask::IOM_VERTCOLOR | vcg::tri::io::Mask::IOM_FACECOLOR;
   ASSERT_EQ(vcg::tri::io::ImporterPLY<molremesh::MeshD>::Open(colored, out.c_str(), mask), 0);
   ASSERT_TRUE(mask & vcg::tri::io::Mask::IOM_FACECOLOR) << "face colors were not saved";
-  const molremesh::BadElementPalette palette =
-      molremesh::BadElementColoring<molremesh::MeshD>::ColorBlindSafePalette();
-  std::size_t obtuse = 0, irregular = 0;
-  for (const auto& f : colored.face)
-    obtuse += f.cC() == palette.obtuseFace || f.cC() == palette.obtuseAndSmallFace;
-  for (const auto& v : colored.vert)
-    irregular += v.cC() == palette.lowValenceVertex || v.cC() == palette.highValenceVertex;
-  EXPECT_EQ(obtuse, j["obtuse_faces"].get<std::size_t>());
-  EXPECT_EQ(irregular, j["irregular_vertices"].get<std::size_t>());
+  const PaletteCounts counts =
+      CountPaletteColors(colored, molremesh::BadElementColoring<molremesh::MeshD>::ColorBlindSafePalette());
+  EXPECT_EQ(counts.obtuseFaces + counts.obtuseAndSmallFaces, j["obtuse_faces"].get<std::size_t>());
+  EXPECT_EQ(counts.irregularVertices, j["irregular_vertices"].get<std::size_t>());
   std::filesystem::remove_all(dir);
 }
 

@@ -16,6 +16,7 @@
 #include <vcg_ext/core/mesh_types.h>
 #include <wrap/io_trimesh/import_ply.h>
 
+#include "palette_counts.h"
 #include "test_helpers.h"
 
 using namespace molremesh::test;
@@ -84,19 +85,13 @@ TEST_P(MeshlabServerOnMesh, ColorScriptMatchesCliCounts) {
   // The plugin colors with the color-blind-safe palette: "red" = obtuse, "blue" = small angle,
   // "magenta" = both, "redVertices" = irregular vertices of either class.
   const molremesh::BadElementPalette palette = molremesh::BadElementColoring<MeshD>::ColorBlindSafePalette();
-  std::size_t red = 0, blue = 0, magenta = 0, redVertices = 0;
-  for (const auto& f : mesh.face) {
-    red += f.cC() == palette.obtuseFace;
-    blue += f.cC() == palette.smallAngleFace;
-    magenta += f.cC() == palette.obtuseAndSmallFace;
-  }
+  const molremesh::test::PaletteCounts counts = molremesh::test::CountPaletteColors(mesh, palette);
+  const std::size_t red = counts.obtuseFaces, blue = counts.smallAngleFaces,
+                    magenta = counts.obtuseAndSmallFaces, redVertices = counts.irregularVertices;
   const std::vector<int> valence = molremesh::MeshQuality<MeshD>::VertexValences(mesh);
   std::size_t qualityMismatches = 0;
-  for (std::size_t i = 0; i < mesh.vert.size(); ++i) {
-    redVertices +=
-        mesh.vert[i].cC() == palette.lowValenceVertex || mesh.vert[i].cC() == palette.highValenceVertex;
+  for (std::size_t i = 0; i < mesh.vert.size(); ++i)
     qualityMismatches += mesh.vert[i].cQ() != double(valence[i]);
-  }
   EXPECT_EQ(qualityMismatches, 0u) << "vertex quality must be the valence";
 
   const nlohmann::json expected = CliReport(input);
