@@ -252,7 +252,7 @@ std::vector<std::size_t> ReadRegionFile(const std::string& path) {
 /// written back unchanged, the new faces last.
 int RunRegionRemesh(MeshD& mesh, const std::string& input, const std::string& output,
                     const molremesh::RemeshPipeline<MeshD>::Params& pipeline,
-                    const std::vector<std::size_t>& faces, bool quiet) {
+                    const std::vector<std::size_t>& faces, bool quiet, bool verbose) {
   molremesh::RegionRemeshing<MeshD>::Params params;
   params.pipeline = pipeline;
   params.faceMask.assign(mesh.face.size(), 0);
@@ -265,6 +265,8 @@ int RunRegionRemesh(MeshD& mesh, const std::string& input, const std::string& ou
   const molremesh::RegionRemeshing<MeshD>::Result result =
       molremesh::RegionRemeshing<MeshD>::Do(mesh, params);
   if (!result.ok) throw InputError(result.message);
+  if (verbose)
+    for (const std::string& line : result.stageSummaries) std::cerr << "molremesh: region " << line << "\n";
   std::string error;
   if (!molremesh::SaveMesh(mesh, output, error)) throw InputError(error);
   if (!quiet)
@@ -319,7 +321,8 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
 
   MeshD mesh;
   LoadValidMesh(mesh, input);
-  if (!regionFaces.empty()) return RunRegionRemesh(mesh, input, output, params, regionFaces, options.quiet);
+  if (!regionFaces.empty())
+    return RunRegionRemesh(mesh, input, output, params, regionFaces, options.quiet, options.verbose);
   OutputRequest request;
   request.start = start;
   request.input = input;

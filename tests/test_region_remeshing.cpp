@@ -52,6 +52,7 @@ struct RegionFigures {
   double angleMin = 180, angleMax = 0;                 ///< faces of the region with no corner on its border
   double borderAngleMin = 180, borderAngleMax = 0;     ///< faces with a corner on the border
   std::size_t facesOffBorder = 0, obtuseOffBorder = 0; ///< faces with no corner on the border, obtuse ones
+  std::size_t facesOnBorder = 0, badOnBorder = 0;      ///< faces with a corner on it, those out of [30, 90)
   std::size_t interiorVertices = 0, interiorV567 = 0;
 };
 
@@ -81,6 +82,7 @@ RegionFigures Measure(const MeshD& m, const std::vector<std::uint8_t>& mask) {
     low = std::min(low, lo);
     high = std::max(high, hi);
     if (!onBorder) ++fig.facesOffBorder, fig.obtuseOffBorder += hi >= 90.0 ? 1 : 0;
+    if (onBorder) ++fig.facesOnBorder, fig.badOnBorder += lo < 30.0 || hi >= 90.0 ? 1 : 0;
   }
   for (std::size_t v = 0; v < m.vert.size(); ++v)
     if (inRegion[v] && !touchesOutside[v]) {
@@ -121,19 +123,20 @@ TEST_P(SharedMeshes, PocketRemeshedAloneWithinBounds) {
   }
   const RegionFigures fig = Measure(m, r.faceMask);
   const molremesh::QualityReport after = Quality::Compute(m);
-  std::printf("  region angles [%.2f, %.2f], obtuse %zu of %zu (faces on the border [%.2f, %.2f]), interior "
-              "V567 %zu/%zu, SI %zu (input %zu), border edges %zu\n",
+  std::printf("  region angles [%.2f, %.2f], obtuse %zu of %zu (faces on the border [%.2f, %.2f], bad %zu of "
+              "%zu), interior V567 %zu/%zu, SI %zu (input %zu), border edges %zu\n",
               fig.angleMin, fig.angleMax, fig.obtuseOffBorder, fig.facesOffBorder, fig.borderAngleMin,
-              fig.borderAngleMax, fig.interiorV567, fig.interiorVertices, after.selfIntersectingPairs,
-              before.selfIntersectingPairs, std::size_t(after.boundaryEdges));
+              fig.borderAngleMax, fig.badOnBorder, fig.facesOnBorder, fig.interiorV567, fig.interiorVertices,
+              after.selfIntersectingPairs, before.selfIntersectingPairs, std::size_t(after.boundaryEdges));
   // The guards' bounds hold on every face away from the border (the faces on it keep the input's
-  // border edges, slivers included); the full pipeline's 90 degrees and all-regular valences are
-  // reached on ubiquitin's pocket, not quite on lysozyme's (one face of 905 at 94 degrees, between
-  // obtuse faces of a valence-9 border vertex; one interior vertex of valence 4 or 8).
+  // border edges, slivers included) and the pipeline's V567 >= 99.9 % on the interior vertices;
+  // the full pipeline's 90 degrees is reached on ubiquitin's pocket, not quite on lysozyme's (one
+  // face of 907 at 94 degrees, one ring in from three border vertices whose wedges hold two faces
+  // of 30-33 degrees each: no placement of the free vertices around it gets below 92 degrees).
   EXPECT_GE(fig.angleMin, 30.0);
   EXPECT_LE(fig.angleMax, 120.0);
   EXPECT_LE(double(fig.obtuseOffBorder), 0.002 * double(fig.facesOffBorder));
-  EXPECT_GE(double(fig.interiorV567), 0.995 * double(fig.interiorVertices));
+  EXPECT_GE(double(fig.interiorV567), 0.999 * double(fig.interiorVertices));
   EXPECT_EQ(after.selfIntersectingPairs, before.selfIntersectingPairs);
   EXPECT_EQ(after.boundaryEdges, 0u);
   EXPECT_EQ(after.nonManifoldEdges, 0u);

@@ -16,7 +16,9 @@
 //     submesh, in pipeline order: RAR (iterations and repair; no volume restoration, which moves
 //     whole components), valence, small, obtuse, smooth, polish. Clean, CVT and segmentation do
 //     not apply to a region and are skipped. The reference surface is built from the whole
-//     input, so the region stays on the surface around it;
+//     input, so the region stays on the surface around it. Then up to Params::settlingPasses
+//     passes of the same stages without RAR while the region falls short of the bounds, each kept
+//     only when it leaves fewer irregular interior vertices and bad faces off the border;
 //  4. stitching: the region's faces are removed from a copy of m with its interior vertices; the
 //     submesh's faces that are not halo are appended, their locked corners welded to the vertices
 //     they were copied from (same coordinates, checked), new vertices appended;
@@ -34,6 +36,7 @@
 #include <vcg_ext/core/input_check.h>
 #include <vcg_ext/core/union_find.h>
 #include <vcg_ext/geometry/mean_edge_length.h>
+#include <vcg_ext/geometry/triangle_angles.h>
 #include <vcg_ext/geometry/point.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>
 #include <vcg_ext/spatial/self_intersections.h>
@@ -65,6 +68,12 @@ public:
     typename Pipeline::Params pipeline;
     std::vector<std::uint8_t> faceMask; ///< per m.face: nonzero = in the region
     double haloMargin = 2.0; ///< obstacle margin around the region's bounding box, in target lengths
+    /// Extra passes of the local stages (all but RAR) while the region still has an irregular
+    /// interior vertex or a face off its border outside the angle bounds; a pass is kept only when
+    /// it leaves fewer of both. Near a locked border the stages block each other: the valence
+    /// refill (max angle 120) fixes a valence that polish (max angle 90) may not, and the angle
+    /// stages then settle the refill's new angles.
+    int settlingPasses = 2;
   };
 
   struct Result {
@@ -76,6 +85,7 @@ public:
     std::size_t haloFaces = 0;               ///< outside faces given to the stages as never-edited context
     std::size_t newRegionIntersections = 0;  ///< pairs with a new face (0 when ok)
     std::vector<std::string> stageSummaries; ///< "name: summary" per stage run
+    int settlingPassesKept = 0;              ///< extra passes of the local stages that were kept
     std::vector<std::uint8_t> faceMask;      ///< per face of the result: the new region (appended last)
     double seconds = 0;
   };
@@ -320,8 +330,67 @@ private:
     return {};
   }
 
+  /// The region's shortfall against the bounds: interior vertices (unlocked) of a valence other
+  /// than 5, 6 or 7, and faces with no locked corner with an angle below the small-angle bound or
+  /// at or above polish's max angle.
+  struct Shortfall {
+    std::size_t irregular = 0, badFaces = 0;
+    bool None() const { return irregular == 0 && badFaces == 0; }
+    bool Improves(const Shortfall& o) const {
+      return irregular <= o.irregular && badFaces <= o.badFaces &&
+             irregular + badFaces < o.irregular + o.badFaces;
+    }
+  };
+  static Shortfall MeasureShortfall(const Submesh& sub, const Params& params) {
+    const MeshType& s = sub.mesh;
+    const std::vector<std::uint8_t> locked = LockedVertices(sub);
+    std::vector<int> valence(s.vert.size(), 0);
+    Shortfall out;
+    for (const auto& f : s.face) {
+      if (f.IsD()) continue;
+      bool free = true;
+      for (int k = 0; k < 3; ++k) {
+        const std::size_t v = vcg::tri::Index(s, f.cV(k));
+        ++valence[v];
+        free = free && !locked[v];
+      }
+      if (!free) continue;
+      double lo = 0, hi = 0;
+      FaceAngleRange(f, lo, hi);
+      out.badFaces += lo < params.pipeline.small.minAngleDeg || hi >= params.pipeline.polish.maxAngleDeg;
+    }
+    for (std::size_t v = 0; v < s.vert.size(); ++v)
+      out.irregular += !locked[v] && valence[v] > 0 && (valence[v] < 5 || valence[v] > 7);
+    return out;
+  }
+
+  /// The stages, then the settling passes (Params::settlingPasses).
   static std::string RunStages(Submesh& s, const Reference& reference, const Params& params, double L,
                                Result& r) {
+    if (std::string why = RunPass(s, reference, params, L, true, r); !why.empty()) return why;
+    Shortfall left = MeasureShortfall(s, params);
+    for (int pass = 0; pass < params.settlingPasses && !left.None(); ++pass) {
+      MeshType before;
+      vcg::tri::Append<MeshType, MeshType>::MeshCopy(before, s.mesh);
+      Result passResult;
+      if (std::string why = RunPass(s, reference, params, L, false, passResult); !why.empty()) return why;
+      const Shortfall after = MeasureShortfall(s, params);
+      if (!after.Improves(left)) {
+        vcg::tri::Append<MeshType, MeshType>::MeshCopy(s.mesh, before);
+        UpdateAdjacency(s.mesh);
+        break;
+      }
+      left = after;
+      ++r.settlingPassesKept;
+      for (const std::string& line : passResult.stageSummaries)
+        r.stageSummaries.push_back("settling pass " + std::to_string(pass + 1) + ", " + line);
+    }
+    return {};
+  }
+
+  /// The stages of params.pipeline.stages that apply to a region, in order (RAR only when withRar).
+  static std::string RunPass(Submesh& s, const Reference& reference, const Params& params, double L,
+                             bool withRar, Result& r) {
     const auto& pp = params.pipeline;
     for (const PipelineStage stage : pp.stages) {
       std::string summary, error;
@@ -331,6 +400,7 @@ private:
       case PipelineStage::Segment:
         continue; // whole-mesh stages: not for a region
       case PipelineStage::Rar:
+        if (!withRar) continue;
         error = RunRar(s, reference, params, L, summary);
         break;
       case PipelineStage::Valence:

@@ -52,6 +52,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
@@ -137,7 +138,7 @@ public:
     if (r.smallFacesBefore == 0) { // the fast path: nothing to do
       r.smallFacesAfter = 0;
       r.angleMinAfter = r.angleMinBefore;
-      return finish(true, "small-angle elimination: no angle below " + std::to_string(params.minAngleDeg));
+      return finish(true, "small-angle elimination: no angle below " + Degrees(params.minAngleDeg));
     }
     LocalOpsGuards guards = params.guards;
     guards.minAngleDeg = params.minAngleDeg;
@@ -164,10 +165,17 @@ public:
     r.smallFacesAfter = CountSmall(m, params.minAngleDeg, params.threads, r.angleMinAfter);
     return finish(true, "small-angle elimination: " + std::to_string(r.smallFacesBefore) + " -> " +
                             std::to_string(r.smallFacesAfter) + " faces with an angle below " +
-                            std::to_string(params.minAngleDeg));
+                            Degrees(params.minAngleDeg));
   }
 
 private:
+  /// An angle bound for the summary: "30 degrees", "27.5 degrees".
+  static std::string Degrees(double deg) {
+    std::ostringstream s;
+    s << deg << " degrees";
+    return s.str();
+  }
+
   static std::size_t CountSmall(const MeshType& m, double minAngleDeg, int threads, double& angleMin) {
     std::size_t n = 0;
     angleMin = 180.0;

@@ -652,8 +652,12 @@ ValenceOptimization<MeshType>::Do(MeshType& m, const Reference& reference, const
   result.after = Census(m);
   countBad(result.smallAnglesAfter, result.largeAnglesAfter);
   result.ok = true;
-  result.message = "valence optimization: V567 " + std::to_string(result.before.RegularPercent()) + "% -> " +
-                   std::to_string(result.after.RegularPercent()) + "%";
+  std::ostringstream message;
+  message.setf(std::ios::fixed);
+  message.precision(2);
+  message << "valence optimization: V567 " << result.before.RegularPercent() << "% -> "
+          << result.after.RegularPercent() << "%";
+  result.message = message.str();
   return result;
 }
 
