@@ -18,7 +18,9 @@
 //     not apply to a region and are skipped. The reference surface is built from the whole
 //     input, so the region stays on the surface around it. Then up to Params::settlingPasses
 //     passes of the same stages without RAR while the region falls short of the bounds, each kept
-//     only when it leaves fewer irregular interior vertices and bad faces off the border;
+//     only when it leaves fewer irregular interior vertices and bad faces off the border; then
+//     up to Params::borderFlips flips of an edge from a locked vertex with thin faces in its wedge,
+//     each settled by the stages and kept on the same terms (and no new fold or crossing);
 //  4. stitching: the region's faces are removed from a copy of m with its interior vertices; the
 //     submesh's faces that are not halo are appended, their locked corners welded to the vertices
 //     they were copied from (same coordinates, checked), new vertices appended;
@@ -74,6 +76,14 @@ public:
     /// refill (max angle 120) fixes a valence that polish (max angle 90) may not, and the angle
     /// stages then settle the refill's new angles.
     int settlingPasses = 2;
+    /// Flips tried at the border while a face off it stays out of bounds (when the obtuse and polish
+    /// stages are in the list: they settle the flips). A locked vertex near such a face whose wedge
+    /// inside the region holds thin faces gives one up: its edge into the region with the smallest
+    /// angles beside it is flipped and the stages without RAR run again; the flip is kept only when
+    /// it leaves fewer irregular interior vertices and bad faces off the border, no new fold and no
+    /// new intersecting pair. Two faces of 30-33 degrees in a 63-degree wedge pin the free vertices
+    /// beside them; one face of 63 degrees leaves them room.
+    int borderFlips = 8;
   };
 
   struct Result {
@@ -86,6 +96,7 @@ public:
     std::size_t newRegionIntersections = 0;  ///< pairs with a new face (0 when ok)
     std::vector<std::string> stageSummaries; ///< "name: summary" per stage run
     int settlingPassesKept = 0;              ///< extra passes of the local stages that were kept
+    int borderFlipsKept = 0;                 ///< border-wedge flips that were kept
     std::vector<std::uint8_t> faceMask;      ///< per face of the result: the new region (appended last)
     double seconds = 0;
   };
@@ -330,6 +341,130 @@ private:
     return {};
   }
 
+  /// An edge (b, x) from a locked vertex b into the region, to be flipped: face fi, edge z; by the
+  /// smaller of the angles at b beside it.
+  struct WedgeEdge {
+    double angleDeg;
+    std::size_t fi;
+    int z;
+    bool operator<(const WedgeEdge& o) const {
+      return angleDeg < o.angleDeg || (angleDeg == o.angleDeg && fi < o.fi);
+    }
+  };
+
+  static double AngleAt(const typename MeshType::FaceType& f, int k) {
+    const Point a = PositionOf(f.cV(k)), b = PositionOf(f.cV((k + 1) % 3)), c = PositionOf(f.cV((k + 2) % 3));
+    return vcg::math::ToDeg(vcg::Angle(b - a, c - a));
+  }
+
+  /// The edges (b, x), b locked and x free, both faces not halo, with b next to a corner of a bad
+  /// face off the border; thinnest first, those with an angle at b below 40 degrees.
+  static std::vector<WedgeEdge> WedgeEdges(const Submesh& sub, const Params& params) {
+    const MeshType& s = sub.mesh;
+    const std::vector<std::uint8_t> locked = LockedVertices(sub);
+    std::vector<std::uint8_t> nearBad(s.vert.size(), 0);
+    for (const auto& f : s.face) {
+      if (f.IsD() || locked[vcg::tri::Index(s, f.cV(0))] || locked[vcg::tri::Index(s, f.cV(1))] ||
+          locked[vcg::tri::Index(s, f.cV(2))])
+        continue;
+      double lo = 0, hi = 0;
+      FaceAngleRange(f, lo, hi);
+      if (!(lo < params.pipeline.small.minAngleDeg || hi >= params.pipeline.polish.maxAngleDeg)) continue;
+      for (int k = 0; k < 3; ++k)
+        for (vcg::face::VFIterator<typename MeshType::FaceType> it(
+                 const_cast<typename MeshType::VertexType*>(f.cV(k)));
+             !it.End(); ++it)
+          for (int j = 0; j < 3; ++j) nearBad[vcg::tri::Index(s, it.F()->cV(j))] = 1;
+    }
+    std::vector<WedgeEdge> edges;
+    for (std::size_t fi = 0; fi < s.face.size(); ++fi) {
+      const auto& f = s.face[fi];
+      if (f.IsD() || IsHaloFace(sub, f)) continue;
+      for (int z = 0; z < 3; ++z) {
+        const std::size_t b = vcg::tri::Index(s, f.cV(z)), x = vcg::tri::Index(s, f.cV((z + 1) % 3));
+        const auto* g = f.cFFp(z);
+        if (!locked[b] || locked[x] || !nearBad[b] || g == &f || IsHaloFace(sub, *g)) continue;
+        const double angle = std::min(AngleAt(f, z), AngleAt(*g, (f.cFFi(z) + 1) % 3));
+        if (angle < 40.0) edges.push_back({angle, fi, z});
+      }
+    }
+    std::sort(edges.begin(), edges.end());
+    return edges;
+  }
+
+  static std::size_t IntersectingPairs(const MeshType& s, double L) {
+    std::vector<std::array<Index, 3>> tris;
+    std::vector<Point> points(s.vert.size());
+    for (std::size_t v = 0; v < s.vert.size(); ++v) points[v] = PositionOf(&s.vert[v]);
+    for (const auto& f : s.face)
+      if (!f.IsD())
+        tris.push_back({Index(vcg::tri::Index(s, f.cV(0))), Index(vcg::tri::Index(s, f.cV(1))),
+                        Index(vcg::tri::Index(s, f.cV(2)))});
+    return FindSelfIntersections(tris, points, L, 0).size();
+  }
+
+  /// Edges whose two faces' normals differ by more than 120 degrees: folds, which the intersection
+  /// test does not see (the two faces share the edge).
+  static std::size_t FoldedEdges(const MeshType& s) {
+    std::size_t folds = 0;
+    for (const auto& f : s.face) {
+      if (f.IsD()) continue;
+      const Point n = FaceNormal(f);
+      for (int z = 0; z < 3; ++z) {
+        const auto* g = f.cFFp(z);
+        if (g == &f || g < &f) continue; // each edge once
+        const Point m = FaceNormal(*g);
+        const double nm = n.Norm() * m.Norm();
+        folds += !(nm > 0) || (n * m) / nm < -0.5;
+      }
+    }
+    return folds;
+  }
+  static Point FaceNormal(const typename MeshType::FaceType& f) {
+    const Point a = PositionOf(f.cV(0));
+    return (PositionOf(f.cV(1)) - a) ^ (PositionOf(f.cV(2)) - a);
+  }
+
+  /// Border-wedge flips (Params::borderFlips), each kept only when it improves the shortfall.
+  static std::string RelieveBorderWedges(Submesh& sub, const Reference& reference, const Params& params,
+                                         double L, Result& r) {
+    // Only with the stages that settle a flip (a smoothing run, say, changes no connectivity).
+    if (!Runs(params, PipelineStage::Obtuse) || !Runs(params, PipelineStage::Polish)) return {};
+    Shortfall left = MeasureShortfall(sub, params);
+    if (left.badFaces == 0) return {};
+    const std::size_t pairs = IntersectingPairs(sub.mesh, L), folds = FoldedEdges(sub.mesh);
+    int tried = 0;
+    while (left.badFaces > 0 && tried < params.borderFlips) {
+      bool kept = false;
+      for (const WedgeEdge& e : WedgeEdges(sub, params)) {
+        if (tried >= params.borderFlips) break;
+        auto& f = sub.mesh.face[e.fi];
+        if (!vcg::face::CheckFlipEdge(f, e.z) ||
+            !vcg::face::CheckFlipEdgeNormal(f, e.z, float(vcg::math::ToRad(60.0))))
+          continue;
+        ++tried;
+        MeshType before;
+        vcg::tri::Append<MeshType, MeshType>::MeshCopy(before, sub.mesh);
+        vcg::face::FlipEdge(f, e.z);
+        UpdateAdjacency(sub.mesh);
+        Result passResult;
+        if (std::string why = RunPass(sub, reference, params, L, false, passResult); !why.empty()) return why;
+        const Shortfall after = MeasureShortfall(sub, params);
+        if (after.Improves(left) && FoldedEdges(sub.mesh) <= folds &&
+            IntersectingPairs(sub.mesh, L) <= pairs) {
+          left = after;
+          kept = true;
+          ++r.borderFlipsKept;
+          break;
+        }
+        vcg::tri::Append<MeshType, MeshType>::MeshCopy(sub.mesh, before);
+        UpdateAdjacency(sub.mesh);
+      }
+      if (!kept) break;
+    }
+    return {};
+  }
+
   /// The region's shortfall against the bounds: interior vertices (unlocked) of a valence other
   /// than 5, 6 or 7, and faces with no locked corner with an angle below the small-angle bound or
   /// at or above polish's max angle.
@@ -385,7 +520,7 @@ private:
       for (const std::string& line : passResult.stageSummaries)
         r.stageSummaries.push_back("settling pass " + std::to_string(pass + 1) + ", " + line);
     }
-    return {};
+    return RelieveBorderWedges(s, reference, params, L, r);
   }
 
   /// The stages of params.pipeline.stages that apply to a region, in order (RAR only when withRar).
