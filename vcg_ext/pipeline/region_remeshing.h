@@ -367,9 +367,7 @@ private:
       if (f.IsD() || locked[vcg::tri::Index(s, f.cV(0))] || locked[vcg::tri::Index(s, f.cV(1))] ||
           locked[vcg::tri::Index(s, f.cV(2))])
         continue;
-      double lo = 0, hi = 0;
-      FaceAngleRange(f, lo, hi);
-      if (!(lo < params.pipeline.small.minAngleDeg || hi >= params.pipeline.polish.maxAngleDeg)) continue;
+      if (!OutOfBounds(f, params)) continue;
       for (int k = 0; k < 3; ++k)
         for (vcg::face::VFIterator<typename MeshType::FaceType> it(
                  const_cast<typename MeshType::VertexType*>(f.cV(k)));
@@ -392,15 +390,14 @@ private:
     return edges;
   }
 
-  static std::size_t IntersectingPairs(const MeshType& s, double L) {
-    std::vector<std::array<Index, 3>> tris;
+  /// The intersecting face pairs of s (its faces indexed as in s.face, which is compact).
+  static std::vector<IntersectingPair> SelfIntersections(const MeshType& s, double L) {
+    std::vector<std::array<Index, 3>> tris(s.face.size());
     std::vector<Point> points(s.vert.size());
     for (std::size_t v = 0; v < s.vert.size(); ++v) points[v] = PositionOf(&s.vert[v]);
-    for (const auto& f : s.face)
-      if (!f.IsD())
-        tris.push_back({Index(vcg::tri::Index(s, f.cV(0))), Index(vcg::tri::Index(s, f.cV(1))),
-                        Index(vcg::tri::Index(s, f.cV(2)))});
-    return FindSelfIntersections(tris, points, L, 0).size();
+    for (std::size_t fi = 0; fi < s.face.size(); ++fi)
+      for (int k = 0; k < 3; ++k) tris[fi][std::size_t(k)] = Index(vcg::tri::Index(s, s.face[fi].cV(k)));
+    return FindSelfIntersections(tris, points, L, 0);
   }
 
   /// Edges whose two faces' normals differ by more than 120 degrees: folds, which the intersection
@@ -432,7 +429,7 @@ private:
     if (!Runs(params, PipelineStage::Obtuse) || !Runs(params, PipelineStage::Polish)) return {};
     Shortfall left = MeasureShortfall(sub, params);
     if (left.badFaces == 0) return {};
-    const std::size_t pairs = IntersectingPairs(sub.mesh, L), folds = FoldedEdges(sub.mesh);
+    const std::size_t pairs = SelfIntersections(sub.mesh, L).size(), folds = FoldedEdges(sub.mesh);
     int tried = 0;
     while (left.badFaces > 0 && tried < params.borderFlips) {
       bool kept = false;
@@ -451,7 +448,7 @@ private:
         if (std::string why = RunPass(sub, reference, params, L, false, passResult); !why.empty()) return why;
         const Shortfall after = MeasureShortfall(sub, params);
         if (after.Improves(left) && FoldedEdges(sub.mesh) <= folds &&
-            IntersectingPairs(sub.mesh, L) <= pairs) {
+            SelfIntersections(sub.mesh, L).size() <= pairs) {
           left = after;
           kept = true;
           ++r.borderFlipsKept;
@@ -476,6 +473,12 @@ private:
              irregular + badFaces < o.irregular + o.badFaces;
     }
   };
+  /// An angle below the small-angle bound, or at or above polish's max angle.
+  static bool OutOfBounds(const typename MeshType::FaceType& f, const Params& params) {
+    double lo = 0, hi = 0;
+    FaceAngleRange(f, lo, hi);
+    return lo < params.pipeline.small.minAngleDeg || hi >= params.pipeline.polish.maxAngleDeg;
+  }
   static Shortfall MeasureShortfall(const Submesh& sub, const Params& params) {
     const MeshType& s = sub.mesh;
     const std::vector<std::uint8_t> locked = LockedVertices(sub);
@@ -490,9 +493,7 @@ private:
         free = free && !locked[v];
       }
       if (!free) continue;
-      double lo = 0, hi = 0;
-      FaceAngleRange(f, lo, hi);
-      out.badFaces += lo < params.pipeline.small.minAngleDeg || hi >= params.pipeline.polish.maxAngleDeg;
+      out.badFaces += OutOfBounds(f, params);
     }
     for (std::size_t v = 0; v < s.vert.size(); ++v)
       out.irregular += !locked[v] && valence[v] > 0 && (valence[v] < 5 || valence[v] > 7);
@@ -639,12 +640,7 @@ private:
       return "the stitched mesh is not edge-manifold";
     if (BorderEdges(out) != BorderEdges(m))
       return "the stitched mesh does not close up along the region's border";
-    std::vector<std::array<Index, 3>> tris(out.face.size());
-    std::vector<Point> points(out.vert.size());
-    for (std::size_t v = 0; v < out.vert.size(); ++v) points[v] = PositionOf(&out.vert[v]);
-    for (std::size_t fi = 0; fi < out.face.size(); ++fi)
-      for (int k = 0; k < 3; ++k) tris[fi][std::size_t(k)] = Index(vcg::tri::Index(out, out.face[fi].cV(k)));
-    for (const IntersectingPair& hit : FindSelfIntersections(tris, points, r.targetEdgeLength, 0))
+    for (const IntersectingPair& hit : SelfIntersections(out, r.targetEdgeLength))
       if (r.faceMask[hit.i] || r.faceMask[hit.j]) ++r.newRegionIntersections;
     if (r.newRegionIntersections > 0)
       return std::to_string(r.newRegionIntersections) + " intersecting pairs with a face of the new region";
