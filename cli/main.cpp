@@ -29,6 +29,7 @@
 #include <malloc.h>
 #endif
 
+#include <vcg_ext_instances/extern_mesh_d_volume.h>
 #include <vcg_ext/quality/bad_element_coloring.h>
 #include <vcg_ext/core/input_check.h>
 #include <vcg_ext/io/mesh_io.h>

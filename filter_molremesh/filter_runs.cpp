@@ -1,4 +1,7 @@
 // The part of the filters' runs that does not depend on the host's mesh type.
+#if defined(MOLREMESH_MESH_D_INSTANCES) // built on vcg_ext's vcglib: MeshD's code is compiled already
+#include <vcg_ext_instances/extern_mesh_d_volume.h>
+#endif
 #include "filter_runs.h"
 
 #include <vcg_ext/structure/structure_file.h>

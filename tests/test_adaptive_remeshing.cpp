@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/stages/adaptive_remeshing.h>
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/quality/mesh_quality.h>

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <vcg_ext_instances/extern_mesh_d_volume.h>
 #include <vcg_ext/clean/clean_raw_mesh.h>
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/quality/stage_summary.h>

@@ -3,6 +3,7 @@
 // meshes of ../shared/data (the two large ones only in a manual run: --gtest_also_run_disabled_tests).
 #include <gtest/gtest.h>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/clean/clean_raw_mesh.h>
 #include <vcg_ext/quality/stage_summary.h>
 #include <vcg_ext/io/mesh_io.h>

@@ -5,6 +5,7 @@
 // bit-identical output for any thread count.
 #include <gtest/gtest.h>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/stages/cvt_initialization.h>
 
 #include "remeshing_test_meshes.h"

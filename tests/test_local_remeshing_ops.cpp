@@ -3,6 +3,7 @@
 // the batch (Jacobi) moves, and random stress runs that must keep the mesh valid.
 #include <gtest/gtest.h>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/ops/local_remeshing_ops.h>
 
 #include "remeshing_test_meshes.h"

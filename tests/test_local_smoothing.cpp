@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/stages/local_smoothing.h>
 #include <vcg_ext/quality/stage_summary.h>
 #include <vcg_ext/quality/mesh_quality.h>

@@ -4,6 +4,7 @@
 
 #include <sys/resource.h>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/pipeline/memory_budget.h>
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/core/mesh_types.h>

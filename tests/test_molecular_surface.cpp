@@ -5,6 +5,7 @@
 
 #include <tbb/global_control.h>
 
+#include <vcg_ext_instances/extern_mesh_d_volume.h>
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/structure/sasa_reference.h>

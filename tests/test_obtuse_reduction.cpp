@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/stages/obtuse_reduction.h>

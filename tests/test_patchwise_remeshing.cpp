@@ -16,6 +16,7 @@
 #include <utility>
 #include <vector>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/mesh_types.h>

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/geometry/triangle_angles.h>
 #include <vcg_ext/pipeline/region_remeshing.h>

@@ -10,6 +10,7 @@
 #include <vcg/complex/complex.h>
 #include <vcg/complex/append.h>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/pipeline/coordinate_frame.h>

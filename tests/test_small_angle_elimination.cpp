@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/quality/mesh_quality.h>
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>

@@ -6,6 +6,7 @@
 
 #include <vcg/complex/complex.h>
 
+#include <vcg_ext_instances/extern_mesh_d.h>
 #include <vcg_ext/ops/local_remeshing_ops.h>
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/pipeline/remesh_pipeline.h>

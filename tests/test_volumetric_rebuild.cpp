@@ -2,6 +2,7 @@
 // surfaces (the boundary of the union of what they enclose, cavities kept).
 #include <gtest/gtest.h>
 
+#include <vcg_ext_instances/extern_mesh_d_volume.h>
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/quality/mesh_quality.h>
