@@ -6,6 +6,7 @@
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/volume/atom_fields.h>
 #include <vcg_ext/volume/level_set_grid.h>
 #include <vcg_ext/volume/volumetric_rebuild.h>
 
@@ -57,6 +58,52 @@ TEST(VolumeLayer, QuadsAreSplitAlongTheirShorterDiagonal) {
   EXPECT_EQ(t[1], openvdb::Vec3I(0, 2, 3));
   EXPECT_EQ(t[2], openvdb::Vec3I(4, 5, 7));
   EXPECT_EQ(t[3], openvdb::Vec3I(5, 6, 7));
+}
+
+TEST(VolumeLayer, TwoSidedDistanceKeepsEachSidesBandWithTheUnsignedDistances) {
+  MeshD sphere;
+  Icosphere(sphere, 4, Point(0, 0, 0), Point(4, 4, 4));
+  const double voxel = 0.25;
+  const VdbPolygons polygons = ToVdbPolygons(sphere);
+  const openvdb::FloatGrid::Ptr twoSided = TwoSidedDistanceGrid(polygons, voxel, 2.0f, 6.0f);
+  const openvdb::FloatGrid::Ptr unsignedGrid = UnsignedDistanceGrid(polygons, voxel, 6.0f);
+  openvdb::FloatGrid::ConstAccessor reference = unsignedGrid->getConstAccessor();
+  double deepest = 0, farthest = 0;
+  for (auto it = twoSided->cbeginValueOn(); it; ++it) {
+    float expected = 0;
+    ASSERT_TRUE(reference.probeValue(it.getCoord(), expected)) << it.getCoord();
+    EXPECT_NEAR(std::fabs(*it), expected, 1e-6); // the same distances, signed
+    const openvdb::Vec3d w = twoSided->indexToWorld(it.getCoord());
+    const bool in = w.length() < 4.0 - voxel; // clear of the polygons' sagitta
+    if (in) deepest = std::max(deepest, double(-*it));
+    if (w.length() > 4.0 + voxel) farthest = std::max(farthest, double(*it));
+    EXPECT_TRUE(!in || *it < 0) << w;
+  }
+  EXPECT_GT(deepest, 5.0 * voxel);  // the inner band reaches its 6 voxels
+  EXPECT_LE(farthest, 2.0 * voxel); // the outer one stops at 2
+  EXPECT_LT(twoSided->activeVoxelCount(), unsignedGrid->activeVoxelCount()); // what it saves
+}
+
+TEST(VolumeLayer, QuadraticGridFieldIsExactWithItsGradientOnAQuadratic) {
+  // Triquadratic interpolation reproduces a polynomial of degree two in each coordinate, so its
+  // value and its derivative are the polynomial's at any point.
+  const double voxel = 0.5;
+  openvdb::FloatGrid::Ptr grid = openvdb::FloatGrid::create(0.0f);
+  grid->setTransform(VoxelTransform(voxel));
+  auto f = [](double x, double y, double z) { return x * x - 0.5 * y * z + 2 * z; };
+  openvdb::FloatGrid::Accessor set = grid->getAccessor();
+  for (int i = -6; i <= 6; ++i)
+    for (int j = -6; j <= 6; ++j)
+      for (int k = -6; k <= 6; ++k)
+        set.setValue(openvdb::Coord(i, j, k), float(f(i * voxel, j * voxel, k * voxel)));
+  const QuadraticGridField field(*grid);
+  for (const Point& x : {Point(0.1, -0.7, 0.33), Point(-1.26, 1.5, -0.01), Point(0.999, 0.25, 1.7)}) {
+    Point gradient;
+    EXPECT_NEAR(field(x, gradient), f(x[0], x[1], x[2]), 1e-5) << x[0] << " " << x[1] << " " << x[2];
+    EXPECT_NEAR(gradient[0], 2 * x[0], 1e-5);
+    EXPECT_NEAR(gradient[1], -0.5 * x[2], 1e-5);
+    EXPECT_NEAR(gradient[2], -0.5 * x[1] + 2, 1e-5);
+  }
 }
 
 // ------------------------------------------------------------------------------------------------

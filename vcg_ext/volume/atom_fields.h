@@ -17,7 +17,6 @@
 #include <vcg_ext/structure/atoms.h>
 
 #include <openvdb/openvdb.h>
-#include <openvdb/tools/Interpolation.h>
 
 #include <array>
 #include <cmath>
@@ -119,32 +118,51 @@ private:
   AtomCells cells_;
 };
 
-/// A grid's values by triquadratic interpolation, the gradient by central differences. Safe to
-/// call from several threads (each call has its own accessor).
+/// A grid's values by triquadratic interpolation (OpenVDB's QuadraticSampler: per axis, the parabola
+/// through the voxel below the point, the one before it and the one after it), the gradient as that
+/// interpolant's own derivative: one read of the 27 voxels per call, where central differences read
+/// them seven times. Safe to call from several threads (each call has its own accessor).
 class QuadraticGridField {
 public:
   explicit QuadraticGridField(const openvdb::FloatGrid& grid)
-      : grid_(&grid), step_(0.25 * grid.voxelSize()[0]) {}
+      : grid_(&grid), inverseVoxel_(1.0 / grid.voxelSize()[0]) {}
   double operator()(const Point& x, Point& gradient) const {
     const openvdb::FloatGrid::ConstAccessor accessor = grid_->getConstAccessor();
-    const openvdb::math::Transform& xform = grid_->transform();
-    auto at = [&](const Point& p) {
-      float value = 0;
-      openvdb::tools::QuadraticSampler::sample(accessor, xform.worldToIndex(openvdb::Vec3d(p[0], p[1], p[2])),
-                                               value);
-      return double(value);
-    };
-    for (int k = 0; k < 3; ++k) {
-      Point e(0, 0, 0);
-      e[k] = step_;
-      gradient[k] = (at(x + e) - at(x - e)) / (2 * step_);
+    const openvdb::Vec3d u = grid_->transform().worldToIndex(openvdb::Vec3d(x[0], x[1], x[2]));
+    const openvdb::Coord low(int(std::floor(u[0])) - 1, int(std::floor(u[1])) - 1, int(std::floor(u[2])) - 1);
+    const double t[3] = {u[0] - (low[0] + 1), u[1] - (low[1] + 1), u[2] - (low[2] + 1)};
+    // Along z first: the value and the z-derivative on each of the 3x3 lines.
+    double along[3][3], alongDz[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        double v[3];
+        for (int k = 0; k < 3; ++k) v[k] = accessor.getValue(low.offsetBy(i, j, k));
+        Parabola(v, t[2], along[i][j], alongDz[i][j]);
+      }
+    // Then y (of the values: value and y-derivative; of the z-derivatives: value), then x.
+    double plane[3], planeDy[3], planeDz[3], unused;
+    for (int i = 0; i < 3; ++i) {
+      Parabola(along[i], t[1], plane[i], planeDy[i]);
+      Parabola(alongDz[i], t[1], planeDz[i], unused);
     }
-    return at(x);
+    double value, dx, dy, dz;
+    Parabola(plane, t[0], value, dx);
+    Parabola(planeDy, t[0], dy, unused);
+    Parabola(planeDz, t[0], dz, unused);
+    gradient = Point(dx, dy, dz) * inverseVoxel_;
+    return value;
   }
 
 private:
+  /// The parabola through v at -1, 0, 1, and its derivative, at t.
+  static void Parabola(const double v[3], double t, double& value, double& derivative) {
+    const double a = 0.5 * (v[0] + v[2]) - v[1], b = 0.5 * (v[2] - v[0]);
+    value = t * (t * a + b) + v[1];
+    derivative = 2 * a * t + b;
+  }
+
   const openvdb::FloatGrid* grid_;
-  double step_;
+  double inverseVoxel_;
 };
 
 /// Newton steps from x towards field == level, the total move capped at maxMove; they stop early

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <vector>
 
 namespace molremesh {
 
@@ -32,6 +33,29 @@ inline openvdb::FloatGrid::Ptr UnsignedDistanceGrid(const VdbPolygons& polygons,
   InitializeOpenVdb();
   return openvdb::tools::meshToUnsignedDistanceField<openvdb::FloatGrid>(
       *VoxelTransform(voxelSize), polygons.points, polygons.triangles, polygons.quads, bandVoxels);
+}
+
+/// The distance to the polygons within outsideVoxels of them on the side OpenVDB's flood fill from
+/// the grid's outside reaches and within insideVoxels on the other (a cavity counts as inside), signed
+/// by that flood fill (callers that keep cavities sign it themselves). The values are OpenVDB's
+/// point-to-polygon distances, as UnsignedDistanceGrid's (no renormalization, no removal of voxels
+/// near crossing polygons), but a band needed on one side only costs that side: the rebuilt SAS
+/// needs the probe's depth inside and nothing outside.
+inline openvdb::FloatGrid::Ptr TwoSidedDistanceGrid(const VdbPolygons& polygons, double voxelSize,
+                                                    float outsideVoxels, float insideVoxels) {
+  InitializeOpenVdb();
+  const openvdb::math::Transform::Ptr xform = VoxelTransform(voxelSize);
+  std::vector<openvdb::Vec3s> points(polygons.points.size()); // in index space, as OpenVDB's own calls
+  for (std::size_t i = 0; i < points.size(); ++i) points[i] = xform->worldToIndex(polygons.points[i]);
+  std::vector<openvdb::Vec4I> primitives;
+  primitives.reserve(polygons.triangles.size() + polygons.quads.size());
+  for (const openvdb::Vec3I& t : polygons.triangles)
+    primitives.emplace_back(t[0], t[1], t[2], openvdb::util::INVALID_IDX);
+  primitives.insert(primitives.end(), polygons.quads.begin(), polygons.quads.end());
+  const openvdb::tools::QuadAndTriangleDataAdapter<openvdb::Vec3s, openvdb::Vec4I> mesh(points, primitives);
+  const int flags =
+      openvdb::tools::DISABLE_INTERSECTING_VOXEL_REMOVAL | openvdb::tools::DISABLE_RENORMALIZATION;
+  return openvdb::tools::meshToVolume<openvdb::FloatGrid>(mesh, *xform, outsideVoxels, insideVoxels, flags);
 }
 
 /// OpenVDB's signed narrow-band level set of the polygons: the sign by flood fill from outside,
