@@ -593,6 +593,51 @@ TEST(CleanRawMesh, CavityIsKeptByDefaultWithItsNormalsIntoTheVoid) {
   }
 }
 
+// Many pieces inside one large shell (a PyMOL surface of a complex has hundreds): the inside votes
+// then run over the shell's faces bucketed along each ray. 63 spheres oriented against the shell
+// are cavities, kept with their normals into the void; one oriented as the shell is a piece of the
+// body, removed when the mesh is read by the union.
+TEST(CleanRawMesh, ManyCavitiesInALargeShellAreEachToldByTheirOrientation) {
+  MeshD shell, small;
+  molremesh::test::Icosphere(shell, 5); // 20480 faces: 64 pieces x 20480 faces is past the brute-force bound
+  molremesh::test::Icosphere(small, 0, Point(0, 0, 0), Point(0.08, 0.08, 0.08));
+  const double pieceVolume = Quality::Compute(small).volume;
+  Soup s = ToSoup(shell);
+  const Soup piece = ToSoup(small);
+  int index = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k, ++index) {
+        const Point center(0.3 * i - 0.45, 0.3 * j - 0.45, 0.3 * k - 0.45);
+        const int offset = int(s.points.size());
+        for (const Point& p : piece.points) s.points.push_back(p + center);
+        const bool cavity = index != 21; // one piece oriented as the shell
+        for (const auto& f : piece.faces)
+          s.faces.push_back(cavity ? std::array<int, 3>{f[0] + offset, f[2] + offset, f[1] + offset}
+                                   : std::array<int, 3>{f[0] + offset, f[1] + offset, f[2] + offset});
+      }
+  MeshD m;
+  MakeMesh(m, s.points, s.faces);
+  Clean::Params params;
+  params.nestedComponents = molremesh::NestedComponents::Union;
+  const auto r = Clean::Do(m, params);
+  ExpectValidResult(m, r);
+  EXPECT_EQ(r.removedInteriorComponents, 1u);
+  EXPECT_EQ(r.removedInteriorFaces, 20u);
+  ASSERT_EQ(r.keptComponents.size(), 64u);
+  std::size_t cavities = 0;
+  for (const auto& c : r.keptComponents) {
+    EXPECT_TRUE(c.closed);
+    if (c.faces == 20) {
+      EXPECT_NEAR(c.volume, -pieceVolume, 1e-9);
+      ++cavities;
+    } else {
+      EXPECT_GT(c.volume, 0);
+    }
+  }
+  EXPECT_EQ(cavities, 63u);
+}
+
 // A mesh that faces inward as a whole (marching cubes with the gradient reversed): its cavity is
 // oriented as its outer surface's opposite all the same, so it is kept; both are turned round.
 TEST(CleanRawMesh, CavityOfAWholeInwardMeshIsKeptAndBothAreTurned) {

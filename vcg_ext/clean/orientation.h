@@ -22,6 +22,7 @@
 #include <vcg_ext/clean/component_filter.h>
 #include <vcg_ext/core/index.h>
 #include <vcg_ext/geometry/point.h>
+#include <vcg_ext/spatial/projected_face_grid.h>
 
 namespace molremesh {
 namespace clean {
@@ -127,10 +128,8 @@ public:
     std::vector<std::size_t> size;
     const std::size_t count = LabelComponents(m, label, size);
     const Components c = Describe(m, label, count);
-    std::vector<std::vector<std::size_t>> containers(count);
-    if (cavitiesInward)
-      for (std::size_t k = 0; k < count; ++k)
-        if (c.info[k].closed && c.info[k].volume != 0) containers[k] = Containers(m, c, k);
+    std::vector<std::vector<std::size_t>> containers =
+        cavitiesInward ? AllContainers(m, c) : std::vector<std::vector<std::size_t>>(count);
     // The orientation of the whole mesh: that of its outermost components' total volume.
     double outermost = 0;
     for (std::size_t k = 0; k < count; ++k)
@@ -196,35 +195,82 @@ private:
     return c;
   }
 
-  /// The components that enclose component k: those whose box holds k's and inside which a point
-  /// of k (the centroid of its largest face) lies by a vote of rays. Containers may be open (a hole
-  /// left unfilled): the vote over several rays tolerates a ray escaping through a small hole.
-  static std::vector<std::size_t> Containers(const MeshType& m, const Components& c, std::size_t k) {
+  /// Per closed component k with a non-zero volume: the components that enclose it, those whose
+  /// box holds k's and inside which a point of k (the centroid of its largest face) lies by a vote
+  /// of rays. Containers may be open (a hole left unfilled): the vote over several rays tolerates a
+  /// ray escaping through a small hole. A container asked about many components has its faces
+  /// bucketed along each ray direction first (ProjectedFaceGrid), so that each ray is tested
+  /// against the faces in its shadow only; the votes are the same.
+  static std::vector<std::vector<std::size_t>> AllContainers(const MeshType& m, const Components& c) {
     static const std::array<Point, 5> directions{Point(0.5773, 0.5774, 0.5775),
                                                  Point(-0.7071, 0.4082, 0.5774), Point(0.1, -0.9, 0.4243),
                                                  Point(-0.3, -0.2, -0.9327), Point(0.8, 0.1, -0.5916)};
-    Index probe = c.faces[k].front();
+    const std::size_t count = c.faces.size();
+    std::vector<Point> origin(count);
+    std::vector<std::vector<std::size_t>> asked(
+        count); // per container candidate: the components inside its box
+    for (std::size_t k = 0; k < count; ++k) {
+      if (!c.info[k].closed || c.info[k].volume == 0) continue;
+      origin[k] = ProbePoint(m, c.faces[k]);
+      for (std::size_t d = 0; d < count; ++d)
+        if (d != k && !c.faces[d].empty() && c.box[d].IsIn(c.box[k].min) && c.box[d].IsIn(c.box[k].max))
+          asked[d].push_back(k);
+    }
+    std::vector<std::vector<std::size_t>> containers(count);
+    std::vector<int> inside(count), outside(count);
+    for (std::size_t d = 0; d < count; ++d) {
+      if (asked[d].empty()) continue;
+      const bool bucket = asked[d].size() * c.faces[d].size() > kBruteForceRayTests;
+      for (const Point& raw : directions) {
+        const Point dir = raw / raw.Norm();
+        if (!bucket) {
+          for (std::size_t k : asked[d])
+            Vote(RayParity(m, c.faces[d].data(), c.faces[d].data() + c.faces[d].size(), origin[k], dir),
+                 inside[k], outside[k]);
+          continue;
+        }
+        const ProjectedFaceGrid grid(
+            c.faces[d].size(), [&](std::size_t i) { return Corners(m, c.faces[d][i]); }, dir);
+        std::vector<Index> near;
+        for (std::size_t k : asked[d]) {
+          const auto range = grid.Candidates(origin[k]);
+          near.clear();
+          for (const std::uint32_t* i = range.first; i != range.second; ++i) near.push_back(c.faces[d][*i]);
+          Vote(RayParity(m, near.data(), near.data() + near.size(), origin[k], dir), inside[k], outside[k]);
+        }
+      }
+      for (std::size_t k : asked[d]) {
+        if (inside[k] > outside[k]) containers[k].push_back(d);
+        inside[k] = outside[k] = 0;
+      }
+    }
+    return containers;
+  }
+
+  /// Above this many ray-face tests, a container's faces are bucketed per direction.
+  static constexpr std::size_t kBruteForceRayTests = std::size_t(1) << 20;
+
+  enum class Crossing { Even, Odd, Ambiguous };
+
+  static void Vote(Crossing crossing, int& inside, int& outside) {
+    if (crossing != Crossing::Ambiguous) (crossing == Crossing::Odd ? inside : outside) += 1;
+  }
+
+  /// The centroid of the largest face of a component.
+  static Point ProbePoint(const MeshType& m, const std::vector<Index>& faces) {
+    Index probe = faces.front();
     double bestArea = -1;
-    for (Index f : c.faces[k]) {
+    for (Index f : faces) {
       const double a = FaceArea(m, m.face[f]);
       if (a > bestArea) bestArea = a, probe = f;
     }
-    const Tri t = FaceTri(m, m.face[probe]);
-    const Point origin =
-        (PositionOf(&m.vert[t[0]]) + PositionOf(&m.vert[t[1]]) + PositionOf(&m.vert[t[2]])) / 3.0;
-    std::vector<std::size_t> out;
-    for (std::size_t d = 0; d < c.faces.size(); ++d) {
-      if (d == k || c.faces[d].empty() || !c.box[d].IsIn(c.box[k].min) || !c.box[d].IsIn(c.box[k].max))
-        continue;
-      int inside = 0, outside = 0;
-      for (const Point& dir : directions) {
-        bool ambiguous = false;
-        const bool in = RayParity(m, c.faces[d], origin, dir / dir.Norm(), ambiguous);
-        if (!ambiguous) (in ? inside : outside) += 1;
-      }
-      if (inside > outside) out.push_back(d);
-    }
-    return out;
+    const std::array<Point, 3> t = Corners(m, probe);
+    return (t[0] + t[1] + t[2]) / 3.0;
+  }
+
+  static std::array<Point, 3> Corners(const MeshType& m, Index f) {
+    const Tri t = FaceTri(m, m.face[f]);
+    return {PositionOf(&m.vert[t[0]]), PositionOf(&m.vert[t[1]]), PositionOf(&m.vert[t[2]])};
   }
 
   static bool Coherent(const FaceType& f, int e) {
@@ -232,22 +278,20 @@ private:
     const int ge = f.cFFi(e);
     return g->cV(ge) == f.cV((e + 1) % 3) && g->cV((ge + 1) % 3) == f.cV(e);
   }
-  /// Parity of the crossings of the ray origin + t dir (t > 0) with the faces; ambiguous when the ray
-  /// grazes an edge or a vertex (then another direction is tried).
-  static bool RayParity(const MeshType& m, const std::vector<Index>& faces, const Point& origin,
-                        const Point& dir, bool& ambiguous) {
-    ambiguous = false;
+  /// Parity of the crossings of the ray origin + t dir (t > 0) with the faces [first, last);
+  /// ambiguous when the ray grazes an edge or a vertex (the vote then ignores this direction).
+  static Crossing RayParity(const MeshType& m, const Index* first, const Index* last, const Point& origin,
+                            const Point& dir) {
     bool odd = false;
-    for (Index f : faces) {
-      const Tri t = FaceTri(m, m.face[f]);
-      const Point a = PositionOf(&m.vert[t[0]]), b = PositionOf(&m.vert[t[1]]), c = PositionOf(&m.vert[t[2]]);
-      const Point e1 = b - a, e2 = c - a;
+    for (const Index* f = first; f != last; ++f) {
+      const std::array<Point, 3> t = Corners(m, *f);
+      const Point e1 = t[1] - t[0], e2 = t[2] - t[0];
       const Point q = dir ^ e2;
       const double det = e1 * q;
       const double scale = e1.Norm() * e2.Norm();
       if (std::fabs(det) <= 1e-12 * scale) continue; // parallel: cannot cross transversally
       const double inv = 1.0 / det;
-      const Point s = origin - a;
+      const Point s = origin - t[0];
       const double u = (s * q) * inv;
       if (u < -1e-9 || u > 1 + 1e-9) continue;
       const Point rr = s ^ e1;
@@ -255,13 +299,10 @@ private:
       if (v < -1e-9 || u + v > 1 + 1e-9) continue;
       const double t0 = (e2 * rr) * inv;
       if (t0 <= 0) continue;
-      if (u < 1e-9 || v < 1e-9 || u + v > 1 - 1e-9) {
-        ambiguous = true;
-        return false;
-      }
+      if (u < 1e-9 || v < 1e-9 || u + v > 1 - 1e-9) return Crossing::Ambiguous;
       odd = !odd;
     }
-    return odd;
+    return odd ? Crossing::Odd : Crossing::Even;
   }
 };
 
