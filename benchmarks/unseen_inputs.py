@@ -9,13 +9,16 @@ to 2, probe radii 1.0, 1.4 and 2.0 Å, with and without cavity mode, exported as
 (one vertex per triangle corner), of single chains and of the multi-chain complexes, whose sheets
 interpenetrate; and marching cubes of a Gaussian density (TMSmesh's kind of surface), which face
 inward. Then it runs the full pipeline (`molremesh remesh IN OUT`, the CLI's defaults) on each and,
-with --stage3, the first half (`--stages clean,cvt,segment,rar`), and tabulates per input the
+with --stage3, the first half (`--stages clean,cvt,segment,rar`), and with --meshlabserver the
+plugin's Full Pipeline filter through the build's sandboxed meshlabserver
+(meshlabserver_scripts/full_pipeline.mlx), and tabulates per input the
 defects in, the verdict out, angles, obtuse faces, V567, the volume and area change and Hausdorff
 distance against the union the input encloses, the volumetric rebuild, TetGen, time and peak memory.
 
 Run it with the system interpreter (/usr/bin/python3: Debian's python3-pymol, python3-skimage).
 Needs edtsurf, python3-pymol, python3-skimage (scripts/install_deps.sh --unseen) and tetgen, and
-the build targets molremesh, mesh_convert, mesh_distance and volumetric_rebuild. Writes
+the build targets molremesh, mesh_convert, mesh_distance and volumetric_rebuild (and
+meshlabserver_sandbox for --meshlabserver). Writes
 docs/results/RESULTS-unseen.md (--out) and the raw figures (--json, by default under the build
 folder).
 """
@@ -32,6 +35,7 @@ import types
 
 from run_benchmarks import REPO, Tools, format_peak, run_json, run_measured
 
+MESHLABSERVER = "full pipeline through meshlabserver"
 STRUCTURES = os.path.normpath(os.path.join(REPO, "..", "shared", "data", "structures"))
 
 
@@ -186,6 +190,37 @@ def remesh(tools, mesh, output, stages, timeout):
     return row
 
 
+def remesh_meshlabserver(tools, mesh, output, timeout):
+    """Runs the plugin's Full Pipeline with its script's defaults through the sandboxed
+    meshlabserver; its output is judged from outside: welded defects (validity), report, TetGen."""
+    mlx = os.path.join(REPO, "meshlabserver_scripts", "full_pipeline.mlx")
+    log = output + ".log"
+    row = {"warnings": []}
+    if mesh.endswith(".obj"):
+        # MeshLab 2020.09 as Debian builds it aborts on opening any OBJ file (an assertion in
+        # vcglib's OBJ importer, Debian bug #1054006): it gets the same vertices and faces as PLY.
+        ply = os.path.splitext(mesh)[0] + ".mls-input.ply"
+        converted = run_measured([tools.mesh_convert, mesh, ply], timeout)
+        if not converted.ok:
+            return dict(row, exit=converted.code, seconds=0, peak_mb=None, error="conversion: " + converted.why())
+        mesh, row["converted"] = ply, True
+    r = run_measured([tools.meshlab, "-l", log, "-i", mesh, "-o", output, "-s", mlx], timeout)
+    row.update({"exit": r.code, "seconds": r.seconds, "peak_mb": r.peak_mb})
+    if not r.ok or not os.path.exists(output):
+        row["error"] = r.why().replace(os.path.dirname(mesh) + os.sep, "")
+        return row
+    with open(log, errors="replace") as f:
+        row["log"] = [l.strip() for l in f if "molremesh" in l.lower() or "error" in l.lower()][-20:]
+    report, rr = run_json([tools.molremesh, "report", output, "--json"], timeout=timeout)
+    row["defects_out"] = welded_defects(tools, output, timeout)
+    if report is None or row["defects_out"] is None:
+        row["error"] = "the written mesh could not be measured: " + rr.why()
+        return row
+    row["output"] = report
+    row["tetgen"] = tools.tetgen_check(output, os.path.dirname(output))
+    return row
+
+
 def welded_defects(tools, mesh, timeout):
     """The input's defects as a mesh welded at equal coordinates (benchmarks/volumetric_rebuild)."""
     data, r = run_json([tools.volumetric_rebuild, mesh, "--defects-only"], timeout=timeout)
@@ -220,6 +255,11 @@ def union_reference(tools, mesh, defects, work, name, timeout):
     if data is None or not data.get("ok"):
         print("  union of %s: %s" % (name, r.why() if data is None else data.get("message")), file=sys.stderr)
         return None, None, None, "failed"
+    if defects["boundary_edges"] and data["volume_out"] < 0.5 * abs(defects["volume"]):
+        # The flood fill from outside leaked through the cracks: what is left is not the union. The
+        # input itself is the reference then (its volume closed by cones over the cracks; where its
+        # sheets overlap, that volume counts the overlap twice).
+        return mesh, abs(defects["volume"]), defects["area"], "input (open; the rebuild leaks)"
     return path, data["volume_out"], data["area_out"], "rebuilt at %.3g Å" % data["voxel_size"]
 
 
@@ -238,6 +278,8 @@ def compare(tools, row, output, reference, timeout):
 
 def rebuilt(row):
     """'yes (area A of B)' when the clean stage rebuilt the surface from a volume, else 'no'."""
+    if "defects_out" in row:
+        return "–"  # meshlabserver: the filter's summary is in its log only
     summary = row.get("clean_summary", "")
     if "volumetric fallback: rebuilt" not in summary:
         return "no"
@@ -269,6 +311,9 @@ def defects_text(d):
 
 
 def validity(row):
+    if "defects_out" in row:  # meshlabserver: judged on the written mesh
+        return "valid" if row["defects_out"] and is_valid_surface(row["defects_out"]) else \
+            "**not valid** (%s)" % defects_text(row["defects_out"])
     v = row.get("verdict") or {}
     if v.get("valid") and row["exit"] in (0,):
         return "valid"
@@ -281,6 +326,8 @@ def percent(x):
 
 def cells(entry, row):
     name = entry[0]
+    if "output" in row and "input" not in row:  # meshlabserver without a CLI row: the welded input's faces
+        row = dict(row, input={"faces": row["defects"]["faces"]} if row.get("defects") else {"faces": 0})
     if "output" not in row:
         return [name, describe(entry), "–", defects_text(row.get("defects")), "failed: " + row.get("error", "?")] + \
             ["–"] * (len(HEADER) - 5)
@@ -312,6 +359,8 @@ def main():
     p.add_argument("--work", help="folder for the generated inputs and the outputs (default: a temporary one)")
     p.add_argument("--only", nargs="*", help="names (or parts of names) of the inputs to run")
     p.add_argument("--stage3", action="store_true", help="also run clean,cvt,segment,rar")
+    p.add_argument("--meshlabserver", action="store_true",
+                   help="also run the plugin's Full Pipeline through the build's sandboxed meshlabserver")
     p.add_argument("--timeout", type=float, default=3600)
     p.add_argument("--tetgen-timeout", type=float, default=1200)
     p.add_argument("--out", default=os.path.join(REPO, "docs", "results", "RESULTS-unseen.md"),
@@ -331,9 +380,12 @@ def main():
         if not os.access(path, os.X_OK):
             sys.exit("unseen_inputs: build the targets molremesh, mesh_convert, mesh_distance and "
                      "volumetric_rebuild in %s first" % args.build_dir)
+    if args.meshlabserver and not os.access(tools.meshlab, os.X_OK):
+        sys.exit("unseen_inputs: build the target meshlabserver_sandbox in %s first" % args.build_dir)
     work = args.work or tempfile.mkdtemp(prefix="molremesh_unseen_")
     os.makedirs(work, exist_ok=True)
-    modes = [("full pipeline", "")] + ([("clean, CVT, segment, RAR", "clean,cvt,segment,rar")] if args.stage3 else [])
+    modes = [("full pipeline", "")] + ([("clean, CVT, segment, RAR", "clean,cvt,segment,rar")] if args.stage3 else []) \
+        + ([(MESHLABSERVER, None)] if args.meshlabserver else [])
     results, tables = [], {mode: [] for mode, _ in modes}
     for entry in INPUTS:
         if args.only and not any(part in entry[0] for part in args.only):
@@ -345,9 +397,15 @@ def main():
         defects = welded_defects(tools, path, args.timeout)
         reference = union_reference(tools, path, defects, work, entry[0], args.timeout)
         for mode, stages in modes:
-            output = os.path.join(work, "%s.%s.ply" % (entry[0], "s3" if stages else "full"))
+            suffix = "mls" if stages is None else "s3" if stages else "full"
+            output = os.path.join(work, "%s.%s.ply" % (entry[0], suffix))
             print("%s: %s ..." % (entry[0], mode), file=sys.stderr, flush=True)
-            row = remesh(tools, path, output, stages, args.timeout)
+            if stages is None:
+                row = remesh_meshlabserver(tools, path, output, args.timeout)
+                if "input" in results[-1] and "output" in row:
+                    row["input"] = {"faces": results[-1]["input"]["faces"]}  # the CLI's reading of the input
+            else:
+                row = remesh(tools, path, output, stages, args.timeout)
             row["defects"] = defects
             compare(tools, row, output, reference, args.timeout)
             results.append({"name": entry[0], "generator": entry[2], "settings": entry[3], "mode": mode, **row})
@@ -366,12 +424,22 @@ def goals(results):
             (len(bounds), len(rows), 100.0 * len(bounds) / max(len(rows), 1)),
             "- not in bounds: " + (", ".join("%s (θ %.1f–%.1f°, V567 %.2f %%)" % (
                 r["name"], r["output"]["angle_min_deg"], r["output"]["angle_max_deg"], r["output"]["v567_percent"])
-                for r in rows if "output" in r and r not in bounds) or "none")]
+                for r in rows if "output" in r and r not in bounds) or "none")] + meshlabserver_goals(results)
+
+
+def meshlabserver_goals(results):
+    rows = [r for r in results if r["mode"] == MESHLABSERVER]
+    if not rows:
+        return []
+    valid = [r for r in rows if validity(r) == "valid" and (r.get("tetgen") or "").startswith("yes")]
+    return ["- through meshlabserver (the plugin's Full Pipeline), valid and TetGen-ready: %d of %d%s" % (
+        len(valid), len(rows), "" if len(valid) == len(rows) else "; not: " + ", ".join(
+            "%s (%s)" % (r["name"], r.get("error") or validity(r)) for r in rows if r not in valid))]
 
 
 def write_results(args, results, tables, modes, work):
     text = ["# molremesh on generated inputs it was not developed on", "",
-            "Made by `/usr/bin/python3 benchmarks/unseen_inputs.py --build-dir build` on %s (2 shared cores). "
+            "Made by `/usr/bin/python3 benchmarks/unseen_inputs.py --build-dir build%s` on %s (2 shared cores). "
             "Inputs: the shared structures through Debian's EDTSurf and PyMOL and marching cubes of a "
             "Gaussian density (settings in the script); each run is one process of the CLI with its "
             "defaults (`molremesh remesh IN OUT`). *Defects in* are counted on the input welded at equal "
@@ -383,8 +451,14 @@ def write_results(args, results, tables, modes, work):
             "that union rebuilt from a volume (`benchmarks/volumetric_rebuild`, voxel half the input's mean "
             "edge, the same rebuild the clean stage falls back to: on those rows they measure the "
             "remeshing). *rebuilt*: the clean stage rebuilt the surface from a volume (area of the input "
-            "it replaced). *µs / face in*: the run's time per input face."
-            % datetime.date.today().isoformat(), ""]
+            "it replaced). *µs / face in*: the run's time per input face. The meshlabserver rows (with "
+            "--meshlabserver) run the plugin's Full Pipeline with `meshlabserver_scripts/full_pipeline.mlx` "
+            "through the build's sandboxed meshlabserver (Xvfb start-up and file input/output included); "
+            "*out* there is judged on the written mesh welded at equal coordinates. MeshLab 2020.09 as "
+            "Debian builds it aborts on opening any OBJ file (an assertion in vcglib's OBJ importer, "
+            "Debian bug #1054006), so the OBJ inputs reach it as PLY files with the same vertices and "
+            "faces (`mesh_convert`, not timed)."
+            % (" --meshlabserver" if args.meshlabserver else "", datetime.date.today().isoformat()), ""]
     text += ["## Goals", ""] + goals(results) + [""]
     for mode, _ in modes:
         text += ["## " + mode, "", table(tables[mode]), ""]
