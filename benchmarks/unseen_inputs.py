@@ -209,8 +209,6 @@ def remesh_meshlabserver(tools, mesh, output, timeout):
     if not r.ok or not os.path.exists(output):
         row["error"] = r.why().replace(os.path.dirname(mesh) + os.sep, "")
         return row
-    with open(log, errors="replace") as f:
-        row["log"] = [l.strip() for l in f if "molremesh" in l.lower() or "error" in l.lower()][-20:]
     report, rr = run_json([tools.molremesh, "report", output, "--json"], timeout=timeout)
     row["defects_out"] = welded_defects(tools, output, timeout)
     if report is None or row["defects_out"] is None:

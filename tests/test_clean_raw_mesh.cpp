@@ -531,6 +531,15 @@ TEST(CleanRawMesh, TinyExtraComponentIsRemovedAndCounted) {
   }
 }
 
+/// Appends `piece`, shifted by `shift`, to `s`; its faces reversed when `reversed`.
+void Append(Soup& s, const Soup& piece, const Point& shift, bool reversed) {
+  const int offset = int(s.points.size());
+  for (const Point& p : piece.points) s.points.push_back(p + shift);
+  for (const auto& f : piece.faces)
+    s.faces.push_back(reversed ? std::array<int, 3>{f[0] + offset, f[2] + offset, f[1] + offset}
+                               : std::array<int, 3>{f[0] + offset, f[1] + offset, f[2] + offset});
+}
+
 /// Two icospheres as one soup: a 5120-face one of radius 1 around the origin and a 20-face one
 /// (0.4% of the faces: the old 1% default removed it) of `innerRadius` at `center`, the second one's
 /// faces reversed when `invertInner` (a cavity as PyMOL writes it: normals into the void).
@@ -541,12 +550,7 @@ Soup TwoSpheres(const Point& center, double innerRadius, bool invertInner, doubl
   molremesh::test::Icosphere(b, 0, center, Point(innerRadius, innerRadius, innerRadius));
   innerVolume = Quality::Compute(b).volume;
   Soup s = ToSoup(a);
-  const Soup t = ToSoup(b);
-  const int offset = int(s.points.size());
-  s.points.insert(s.points.end(), t.points.begin(), t.points.end());
-  for (const auto& f : t.faces)
-    s.faces.push_back(invertInner ? std::array<int, 3>{f[0] + offset, f[2] + offset, f[1] + offset}
-                                  : std::array<int, 3>{f[0] + offset, f[1] + offset, f[2] + offset});
+  Append(s, ToSoup(b), Point(0, 0, 0), invertInner);
   return s;
 }
 
@@ -608,13 +612,8 @@ TEST(CleanRawMesh, ManyCavitiesInALargeShellAreEachToldByTheirOrientation) {
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 4; ++j)
       for (int k = 0; k < 4; ++k, ++index) {
-        const Point center(0.3 * i - 0.45, 0.3 * j - 0.45, 0.3 * k - 0.45);
-        const int offset = int(s.points.size());
-        for (const Point& p : piece.points) s.points.push_back(p + center);
         const bool cavity = index != 21; // one piece oriented as the shell
-        for (const auto& f : piece.faces)
-          s.faces.push_back(cavity ? std::array<int, 3>{f[0] + offset, f[2] + offset, f[1] + offset}
-                                   : std::array<int, 3>{f[0] + offset, f[1] + offset, f[2] + offset});
+        Append(s, piece, Point(0.3 * i - 0.45, 0.3 * j - 0.45, 0.3 * k - 0.45), cavity);
       }
   MeshD m;
   MakeMesh(m, s.points, s.faces);

@@ -207,8 +207,8 @@ private:
                                                  Point(-0.3, -0.2, -0.9327), Point(0.8, 0.1, -0.5916)};
     const std::size_t count = c.faces.size();
     std::vector<Point> origin(count);
-    std::vector<std::vector<std::size_t>> asked(
-        count); // per container candidate: the components inside its box
+    // Per candidate container: the components inside its box.
+    std::vector<std::vector<std::size_t>> asked(count);
     for (std::size_t k = 0; k < count; ++k) {
       if (!c.info[k].closed || c.info[k].volume == 0) continue;
       origin[k] = ProbePoint(m, c.faces[k]);
