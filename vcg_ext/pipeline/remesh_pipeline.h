@@ -40,6 +40,7 @@
 #include <vcg_ext/stages/random_segmentation.h>
 #include <vcg_ext/surface/reference_surface.h>
 #include <vcg_ext/stages/small_angle_elimination.h>
+#include <vcg_ext/stages/tiny_components.h>
 #include <vcg_ext/geometry/triangle_angles.h>
 #include <vcg_ext/stages/valence_optimization.h>
 #include <vcg_ext/quality/stage_summary.h>
@@ -563,14 +564,17 @@ private:
     case PipelineStage::Rar:
       return RunRar(run, summary);
     case PipelineStage::Valence:
-    case PipelineStage::Polish:
+    case PipelineStage::Polish: {
       if (run.remeshKept) {
         summary = "skipped: the remesh is kept (see cvt)";
         return {};
       }
-      return RunLocalStage<ValenceOptimization<MeshType>>(
+      std::string error = RunLocalStage<ValenceOptimization<MeshType>>(
           run, stage == PipelineStage::Valence ? params.valence : params.polish, summary,
           [](const auto& r) { return ValenceOptimizationSummary(r); });
+      if (error.empty() && stage == PipelineStage::Polish) RunTinyComponents(run, summary);
+      return error;
+    }
     case PipelineStage::Small:
       return RunLocalStage<SmallAngleElimination<MeshType>>(
           run, params.small, summary, [](const auto& r) { return SmallAngleEliminationSummary(r); });
@@ -582,6 +586,17 @@ private:
                                                      [](const auto& r) { return LocalSmoothingSummary(r); });
     }
     return {};
+  }
+
+  /// The closed components too small to be regular remade as icosahedra (tiny_components.h).
+  static void RunTinyComponents(RunState& run, std::string& summary) {
+    typename TinyComponentRegularization<MeshType>::Params tiny;
+    tiny.minAngle = run.params.polish.minAngleDeg;
+    tiny.maxAngle = run.params.polish.maxAngleDeg;
+    const TinyComponentResult r = TinyComponentRegularization<MeshType>::Do(run.m, tiny);
+    if (r.tiny > 0)
+      summary += "\nsmall components remade as icosahedra: " + std::to_string(r.remade) + " of " +
+                 std::to_string(r.tiny);
   }
 
   static std::string RunClean(RunState& run, bool last, std::string& summary,
