@@ -104,4 +104,17 @@ TEST(TinyComponents, AnOpenComponentIsNotTouched) {
   EXPECT_EQ(m.fn, 7);
 }
 
+TEST(TinyComponents, ASpeckWithAFlippedFaceIsNotTouched) {
+  MeshD m;
+  vcg::tri::Octahedron(m);
+  std::swap(m.face[0].V(1), m.face[0].V(2)); // closed, F = 2V - 4, but not consistently oriented
+  const std::vector<Point> before = {m.vert[0].P(), m.vert[5].P()};
+  const molremesh::TinyComponentResult r = Tiny::Do(m, Tiny::Params());
+  EXPECT_EQ(r.tiny, 1u);
+  EXPECT_EQ(r.remade, 0u);
+  EXPECT_EQ(m.vn, 6);
+  EXPECT_EQ(m.vert[0].P(), before[0]);
+  EXPECT_EQ(m.vert[5].P(), before[1]);
+}
+
 } // namespace

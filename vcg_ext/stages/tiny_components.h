@@ -148,6 +148,7 @@ private:
   /// angle would leave the bounds.
   static bool Icosahedron(const MeshType& m, const std::vector<std::size_t>& faces, const Params& p,
                           std::array<Point, 12>& corner) {
+    if (!ClosedAndOriented(m, faces)) return false;
     // The centroid of the enclosed solid (sum of the tetrahedra to the first corner), which lies
     // in the kernel of more bent specks than the mean of the corners does.
     const Point apex = PositionOf(m.face[faces[0]].cV(0));
@@ -226,6 +227,21 @@ private:
       margin = std::min({margin, angle - p.minAngle, p.maxAngle - angle});
     }
     return std::isfinite(margin) ? margin : -1;
+  }
+
+  /// Every directed edge of the faces used once and its reverse once (F = 2V - 4 alone does not
+  /// rule out a non-manifold speck).
+  static bool ClosedAndOriented(const MeshType& m, const std::vector<std::size_t>& faces) {
+    std::vector<std::pair<const void*, const void*>> edges;
+    for (std::size_t i : faces)
+      for (int k = 0; k < 3; ++k) edges.emplace_back(m.face[i].cV(k), m.face[i].cV((k + 1) % 3));
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t e = 0; e < edges.size(); ++e) {
+      if (e > 0 && edges[e] == edges[e - 1]) return false;
+      if (!std::binary_search(edges.begin(), edges.end(), std::make_pair(edges[e].second, edges[e].first)))
+        return false;
+    }
+    return true;
   }
 
   /// Where the ray from o along unit d meets the face (its distance), or 0.
