@@ -359,6 +359,9 @@ def main():
     p.add_argument("--stage3", action="store_true", help="also run clean,cvt,segment,rar")
     p.add_argument("--meshlabserver", action="store_true",
                    help="also run the plugin's Full Pipeline through the build's sandboxed meshlabserver")
+    p.add_argument("--keep-from", metavar="JSON",
+                   help="a previous run's --json: the rows of the inputs not run now (see --only) are taken "
+                        "from it, so a change that touches a few inputs is measured on those alone")
     p.add_argument("--timeout", type=float, default=3600)
     p.add_argument("--tetgen-timeout", type=float, default=1200)
     p.add_argument("--out", default=os.path.join(REPO, "docs", "results", "RESULTS-unseen.md"),
@@ -408,7 +411,25 @@ def main():
             compare(tools, row, output, reference, args.timeout)
             results.append({"name": entry[0], "generator": entry[2], "settings": entry[3], "mode": mode, **row})
             tables[mode].append(cells(entry, row))
+    if args.keep_from:
+        keep_rows(args.keep_from, results, tables)
     write_results(args, results, tables, modes, work)
+
+
+def keep_rows(path, results, tables):
+    """Adds the rows of a previous run for the inputs and modes this run has no row of, in INPUTS order."""
+    entry_of = {entry[0]: entry for entry in INPUTS}
+    run = {(r["name"], r["mode"]) for r in results}
+    with open(path) as f:
+        kept = [r for r in json.load(f) if (r["name"], r["mode"]) not in run and r["mode"] in tables
+                and r["name"] in entry_of]
+    results += kept
+    for r in kept:
+        tables[r["mode"]].append(cells(entry_of[r["name"]], r))
+    order = {entry[0]: i for i, entry in enumerate(INPUTS)}
+    results.sort(key=lambda r: (order[r["name"]], r["mode"] != "full pipeline"))
+    for rows in tables.values():
+        rows.sort(key=lambda cell_list: order[cell_list[0]])
 
 
 def goals(results):
@@ -435,9 +456,16 @@ def meshlabserver_goals(results):
             "%s (%s)" % (r["name"], r.get("error") or validity(r)) for r in rows if r not in valid))]
 
 
+def kept_note(args):
+    if not args.keep_from:
+        return ""
+    return ("; the rows of the inputs other than %s are those of an earlier run of the same command "
+            "(`--only ... --keep-from JSON`)" % ", ".join(args.only or []))
+
+
 def write_results(args, results, tables, modes, work):
     text = ["# molremesh on generated inputs it was not developed on", "",
-            "Made by `/usr/bin/python3 benchmarks/unseen_inputs.py --build-dir build%s` on %s (2 shared cores). "
+            "Made by `/usr/bin/python3 benchmarks/unseen_inputs.py --build-dir build%s` on %s (2 shared cores)%s. "
             "Inputs: the shared structures through Debian's EDTSurf and PyMOL and marching cubes of a "
             "Gaussian density (settings in the script); each run is one process of the CLI with its "
             "defaults (`molremesh remesh IN OUT`). *Defects in* are counted on the input welded at equal "
@@ -456,7 +484,8 @@ def write_results(args, results, tables, modes, work):
             "Debian builds it aborts on opening any OBJ file (an assertion in vcglib's OBJ importer, "
             "Debian bug #1054006), so the OBJ inputs reach it as PLY files with the same vertices and "
             "faces (`mesh_convert`, not timed)."
-            % (" --meshlabserver" if args.meshlabserver else "", datetime.date.today().isoformat()), ""]
+            % (" --meshlabserver" if args.meshlabserver else "", datetime.date.today().isoformat(), kept_note(args)),
+            ""]
     text += ["## Goals", ""] + goals(results) + [""]
     for mode, _ in modes:
         text += ["## " + mode, "", table(tables[mode]), ""]
