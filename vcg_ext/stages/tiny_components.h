@@ -15,6 +15,7 @@
 #include <vcg_ext/core/index.h>
 #include <vcg_ext/core/union_find.h>
 #include <vcg_ext/geometry/point.h>
+#include <vcg_ext/geometry/triangle_angles.h>
 #include <vcg_ext/geometry/triangle_intersection.h>
 
 #include <vcg/complex/complex.h>
@@ -53,12 +54,16 @@ public:
     std::vector<std::vector<std::size_t>> facesOf = TinyComponents(m, p);
     r.tiny = facesOf.size();
     std::vector<std::array<Point, 12>> corners(facesOf.size());
-    std::vector<bool> remake(facesOf.size(), false);
-    for (std::size_t c = 0; c < facesOf.size(); ++c) remake[c] = Icosahedron(m, facesOf[c], p, corners[c]);
+    std::vector<bool> remake(facesOf.size(), false), cavity(facesOf.size(), false);
+    for (std::size_t c = 0; c < facesOf.size(); ++c) {
+      bool inward = false;
+      remake[c] = Icosahedron(m, facesOf[c], p, corners[c], inward);
+      cavity[c] = inward;
+    }
     DropCrossings(m, facesOf, corners, remake);
     for (std::size_t c = 0; c < facesOf.size(); ++c)
       if (remake[c]) {
-        Replace(m, facesOf[c], corners[c]);
+        Replace(m, facesOf[c], corners[c], cavity[c]);
         ++r.remade;
       }
     return r;
@@ -147,7 +152,7 @@ private:
   /// The icosahedron of a component: false when it is not star-shaped around its centroid or an
   /// angle would leave the bounds.
   static bool Icosahedron(const MeshType& m, const std::vector<std::size_t>& faces, const Params& p,
-                          std::array<Point, 12>& corner) {
+                          std::array<Point, 12>& corner, bool& cavity) {
     if (!ClosedAndOriented(m, faces)) return false;
     // The centroid of the enclosed solid (sum of the tetrahedra to the first corner), which lies
     // in the kernel of more bent specks than the mean of the corners does.
@@ -164,7 +169,8 @@ private:
     }
     if (!(std::fabs(volume) > 0)) return false;
     centre = apex + centre / volume;
-    const double side = volume > 0 ? 1.0 : -1.0; // a cavity's normals point at its centre
+    cavity = volume < 0;
+    const double side = cavity ? -1.0 : 1.0; // a cavity's normals point at its centre
     for (std::size_t i : faces) {
       const auto& f = m.face[i];
       const Point a = PositionOf(f.cV(0)), b = PositionOf(f.cV(1)), c = PositionOf(f.cV(2));
@@ -219,13 +225,9 @@ private:
 
   /// Degrees by which the triangle's angles keep within the bounds (negative: out of them).
   static double AngleMargin(const Point& a, const Point& b, const Point& c, const Params& p) {
-    const Point q[3] = {a, b, c};
-    double margin = 180;
-    for (int k = 0; k < 3; ++k) {
-      const Point u = q[(k + 1) % 3] - q[k], w = q[(k + 2) % 3] - q[k];
-      const double angle = std::acos(std::clamp((u * w) / (u.Norm() * w.Norm()), -1.0, 1.0)) * 180.0 / M_PI;
-      margin = std::min({margin, angle - p.minAngle, p.maxAngle - angle});
-    }
+    double lo = 0, hi = 0;
+    TriangleAngleRange(a, b, c, lo, hi);
+    const double margin = std::min(lo - p.minAngle, p.maxAngle - hi);
     return std::isfinite(margin) ? margin : -1;
   }
 
@@ -340,13 +342,8 @@ private:
 
   /// The component's faces and vertices deleted, the icosahedron added with the component's
   /// orientation (a cavity's normals towards its centre).
-  static void Replace(MeshType& m, const std::vector<std::size_t>& faces,
-                      const std::array<Point, 12>& corner) {
-    double volume = 0;
-    for (std::size_t i : faces) {
-      auto& f = m.face[i];
-      volume += PositionOf(f.cV(0)) * (PositionOf(f.cV(1)) ^ PositionOf(f.cV(2)));
-    }
+  static void Replace(MeshType& m, const std::vector<std::size_t>& faces, const std::array<Point, 12>& corner,
+                      bool cavity) {
     for (std::size_t i : faces) {
       auto& f = m.face[i];
       for (int k = 0; k < 3; ++k)
@@ -359,7 +356,7 @@ private:
     for (int k = 0; k < 12; ++k)
       (v + k)->P() = CoordType(ScalarType(corner[k][0]), ScalarType(corner[k][1]), ScalarType(corner[k][2]));
     for (const Face& t : Faces()) {
-      const int b = volume > 0 ? t[1] : t[2], c = volume > 0 ? t[2] : t[1];
+      const int b = cavity ? t[2] : t[1], c = cavity ? t[1] : t[2];
       vcg::tri::Allocator<MeshType>::AddFace(m, &*(v + t[0]), &*(v + b), &*(v + c));
     }
   }
