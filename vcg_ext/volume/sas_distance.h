@@ -14,6 +14,10 @@
 // corners with flat triangles, so it overestimates the depth under them and puts the SES's
 // reentrant patches up to several tenths of an Å too far out (1UBQ at 0.4 Å: SES area -4.2 % and
 // volume +2.3 % against BALL's analytic SES; both errors linear in the grid spacing).
+//
+// Cost: the SAS vertices and the crease circles with an exposed point are found once; a query
+// looks only at those (inside a protein most creases are buried whole, and a query near the SES
+// has a dozen spheres within reach, whose pairs it would otherwise all try).
 #pragma once
 
 #include <vcg_ext/core/parallel_for.h>
@@ -181,19 +185,23 @@ private:
     }
   }
 
+  /// The nearest exposed points of the crease circles of the near spheres (only the circles with an
+  /// exposed point: most creases inside the protein are buried whole). A circle is no nearer than
+  /// its farther sphere, so each pair is visited from its nearer sphere.
   void Circles(const Point& x, const Around& around, Nearest& best) const {
-    const std::vector<Sphere>& near = around.near;
-    for (std::size_t i = 0; i < near.size() && near[i].gap < best.distance; ++i)
-      for (std::size_t j = i + 1; j < near.size() && near[j].gap < best.distance; ++j) {
-        Point centre, axis;
-        double rho;
-        const std::uint32_t a = near[i].index, b = near[j].index;
-        if (!Circle(a, b, centre, axis, rho)) continue;
-        Point radial = x - centre;
-        radial -= axis * (radial * axis);
-        const double n = radial.Norm();
-        if (n > 0) Consider(x, centre + radial * (rho / n), best, around, a, b, b);
+    for (const Sphere& s : around.near) {
+      if (!(s.gap < best.distance)) break; // sorted by the lower bound
+      for (std::size_t n = creaseStart_[s.index]; n < creaseStart_[s.index + 1]; ++n) {
+        const Crease& crease = creases_[n];
+        const std::uint32_t b = crease.other;
+        const double gap = std::fabs((x - centres_[b]).Norm() - radii_[b]);
+        if (!(gap < best.distance) || gap < s.gap || (gap == s.gap && b < s.index)) continue;
+        Point radial = x - crease.centre;
+        radial -= crease.axis * (radial * crease.axis);
+        const double norm = radial.Norm();
+        if (norm > 0) Consider(x, crease.centre + radial * (crease.rho / norm), best, around, s.index, b, b);
       }
+    }
   }
 
   /// The nearest exposed SAS vertex, if nearer than best (they were found once, FindExposedCorners).
@@ -215,10 +223,12 @@ private:
   }
 
   /// The points where three spheres meet that lie on no other sphere (the SAS vertices), sorted
-  /// into the cells: per sphere a in cell order, the corners with two later spheres b < c.
+  /// into the cells: per sphere a in cell order, the corners with two later spheres b < c. Then the
+  /// crease circles with an exposed point (FindExposedCreases).
   void FindExposedCorners(int threads) {
     const std::size_t n = centres_.size();
     std::vector<std::vector<Point>> found(n);
+    std::vector<std::vector<SpherePair>> creases(n); // pairs with a corner on no other sphere
     ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
       std::vector<std::uint32_t> partners;
       for (std::size_t a = begin; a < end; ++a) {
@@ -232,8 +242,16 @@ private:
             Point y[2];
             const std::uint32_t b = partners[i], c = partners[j];
             if (!Meet(b, c) || !Corner(std::uint32_t(a), b, c, y)) continue;
-            for (const Point& corner : y)
-              if (ExposedCorner(corner, std::uint32_t(a), b, c)) found[a].push_back(corner);
+            bool onCrease = false;
+            for (const Point& corner : y) {
+              const double cover = Cover(corner, std::uint32_t(a), b, c);
+              if (!(cover < kInside)) found[a].push_back(corner);
+              onCrease = onCrease || !(cover < kLooselyInside);
+            }
+            if (onCrease)
+              for (const SpherePair& pair :
+                   {SpherePair{std::uint32_t(a), b}, SpherePair{std::uint32_t(a), c}, SpherePair{b, c}})
+                creases[a].push_back(pair);
           }
       }
     });
@@ -245,6 +263,78 @@ private:
     corners_.resize(cornerStart_.back());
     for (const auto& list : found)
       for (const Point& y : list) corners_[fill[CellIndex(CellOf(y, 0), CellOf(y, 1), CellOf(y, 2))]++] = y;
+    FindExposedCreases(std::move(creases), threads);
+  }
+
+  struct SpherePair {
+    std::uint32_t a, b; ///< a < b
+    bool operator<(const SpherePair& o) const { return a < o.a || (a == o.a && b < o.b); }
+    bool operator==(const SpherePair& o) const { return a == o.a && b == o.b; }
+  };
+
+  /// The crease circles with an exposed point, listed under both spheres: those with an exposed
+  /// corner (`withCorner`, per sphere) and those no third sphere cuts that lie in no single other
+  /// sphere (whole exposed circles; a circle no sphere cuts is inside or outside each sphere whole).
+  void FindExposedCreases(std::vector<std::vector<SpherePair>> withCorner, int threads) {
+    const std::size_t n = centres_.size();
+    std::vector<std::vector<SpherePair>> whole(n);
+    ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
+      std::vector<std::uint32_t> partners;
+      for (std::size_t a = begin; a < end; ++a) {
+        partners.clear();
+        ForNear(centres_[a], 2 * largest_, [&](std::uint32_t b) {
+          if (b != a && Meet(std::uint32_t(a), b)) partners.push_back(b);
+        });
+        std::sort(partners.begin(), partners.end());
+        for (const std::uint32_t b : partners)
+          if (b > a && WholeCircleExposed(std::uint32_t(a), b, partners))
+            whole[a].push_back({std::uint32_t(a), b});
+      }
+    });
+    std::vector<SpherePair> pairs;
+    for (auto* lists : {&withCorner, &whole})
+      for (const auto& list : *lists) pairs.insert(pairs.end(), list.begin(), list.end());
+    std::sort(pairs.begin(), pairs.end());
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    std::vector<Crease> circles(pairs.size()); // each computed once, from the lower index
+    std::size_t kept = 0;
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      if (Circle(pairs[i].a, pairs[i].b, circles[kept].centre, circles[kept].axis, circles[kept].rho)) {
+        pairs[kept] = pairs[i];
+        ++kept;
+      }
+    pairs.resize(kept);
+    creaseStart_.assign(n + 1, 0);
+    for (const SpherePair& pair : pairs) ++creaseStart_[pair.a + 1], ++creaseStart_[pair.b + 1];
+    for (std::size_t i = 1; i <= n; ++i) creaseStart_[i] += creaseStart_[i - 1];
+    std::vector<std::size_t> fill(creaseStart_.begin(), creaseStart_.end() - 1);
+    creases_.resize(creaseStart_.back());
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      Crease crease = circles[i];
+      crease.other = pairs[i].b;
+      creases_[fill[pairs[i].a]++] = crease;
+      crease.other = pairs[i].a;
+      creases_[fill[pairs[i].b]++] = crease;
+    }
+  }
+
+  /// The circle of spheres a and b lies in no other sphere and no partner of a cuts it (a circle
+  /// with a corner is exposed only if a corner is). One point of it inside another sphere settles
+  /// it: that sphere holds the circle whole or cuts it.
+  bool WholeCircleExposed(std::uint32_t a, std::uint32_t b,
+                          const std::vector<std::uint32_t>& partners) const {
+    Point centre, axis;
+    double rho;
+    if (!Circle(a, b, centre, axis, rho)) return false;
+    const Point across = std::fabs(axis[0]) < 0.9 ? Point(1, 0, 0) : Point(0, 1, 0);
+    const Point y = centre + (axis ^ across).Normalize() * rho;
+    for (const std::uint32_t c : partners)
+      if (c != b && (y - centres_[c]).SquaredNorm() < radii_[c] * radii_[c] * kLooselyInside) return false;
+    for (const std::uint32_t c : partners) {
+      Point corner[2];
+      if (c != b && Meet(b, c) && Corner(a, b, c, corner)) return false;
+    }
+    return true;
   }
 
   bool Meet(std::uint32_t a, std::uint32_t b) const {
@@ -252,14 +342,15 @@ private:
     return (centres_[a] - centres_[b]).SquaredNorm() < r * r;
   }
 
-  bool ExposedCorner(const Point& y, std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
-    bool exposed = true;
+  /// How deep y is in the spheres other than a, b, c: the least |y - centre|^2 / radius^2 (y is in
+  /// no other sphere when it is at least 1).
+  double Cover(const Point& y, std::uint32_t a, std::uint32_t b, std::uint32_t c) const {
+    double least = 1e300;
     ForNear(y, largest_, [&](std::uint32_t i) {
-      if (exposed && i != a && i != b && i != c &&
-          (y - centres_[i]).SquaredNorm() < radii_[i] * radii_[i] * kInside)
-        exposed = false;
+      if (i != a && i != b && i != c)
+        least = std::min(least, (y - centres_[i]).SquaredNorm() / (radii_[i] * radii_[i]));
     });
-    return exposed;
+    return least;
   }
 
   /// The circle where spheres a and b meet; false when they do not.
@@ -323,6 +414,14 @@ private:
   static constexpr double kCell = 1.5; ///< Å, edge of the cells the spheres are sorted in
   /// A point on a sphere computed from another sphere's circle is not "inside" it by rounding.
   static constexpr double kInside = 1.0 - 1e-9;
+  /// Where a crease's exposure is decided (a corner, a whole circle): more points count as
+  /// exposed, so no crease with an exposed point is left out by rounding.
+  static constexpr double kLooselyInside = 1.0 - 1e-6;
+  struct Crease {
+    std::uint32_t other; ///< the other sphere
+    Point centre, axis;
+    double rho;
+  };
   double reach_, largest_ = 0, query_ = 0;
   Point origin_;
   long size_[3] = {1, 1, 1};
@@ -331,6 +430,8 @@ private:
   std::vector<double> radii_;            ///< r + probe, in the same order
   std::vector<std::size_t> cornerStart_; ///< per cell: its first SAS vertex, as start_
   std::vector<Point> corners_;           ///< the exposed SAS vertices, sorted by cell
+  std::vector<std::size_t> creaseStart_; ///< per sphere: its first crease with an exposed point
+  std::vector<Crease> creases_;          ///< those creases, under each of their two spheres
 };
 
 } // namespace molremesh
