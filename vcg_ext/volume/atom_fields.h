@@ -212,13 +212,12 @@ void RevertCrossingMoves(MeshType& m, const std::vector<Point>& before, int thre
   }
 }
 
-/// Moves m's vertices onto field == level (ProjectToLevel, each on its own: the result does not
-/// depend on the thread count); a vertex whose move flips one of its faces' normals (or makes it
-/// degenerate) is put back, until no face is flipped, and so are the vertices of faces the moves
-/// made cross (RevertCrossingMoves).
-template <class MeshType, class Field>
-void ProjectVerticesToLevel(MeshType& m, const Field& field, double level, double maxMove, int threads = 0,
-                            double tolerance = 0) {
+/// Moves each vertex of m to move(position) (each on its own: the result does not depend on the
+/// thread count); a vertex whose move flips one of its faces' normals (or makes it degenerate) is
+/// put back, until no face is flipped, and so are the vertices of faces the moves made cross
+/// (RevertCrossingMoves).
+template <class MeshType, class Move>
+void MoveVerticesKeepingValid(MeshType& m, const Move& move, int threads = 0) {
   using CoordType = typename MeshType::CoordType;
   using ScalarType = typename MeshType::ScalarType;
   std::vector<Point> before(m.vert.size());
@@ -226,7 +225,7 @@ void ProjectVerticesToLevel(MeshType& m, const Field& field, double level, doubl
     for (std::size_t i = begin; i < end; ++i) {
       before[i] = PositionOf(&m.vert[i]);
       if (m.vert[i].IsD()) continue;
-      const Point p = ProjectToLevel(before[i], field, level, maxMove, 4, tolerance);
+      const Point p = move(before[i]);
       m.vert[i].P() = CoordType(ScalarType(p[0]), ScalarType(p[1]), ScalarType(p[2]));
     }
   });
@@ -252,6 +251,15 @@ void ProjectVerticesToLevel(MeshType& m, const Field& field, double level, doubl
     if (!reverted) break;
   }
   RevertCrossingMoves(m, before, threads);
+}
+
+/// Moves m's vertices onto field == level (ProjectToLevel), keeping the mesh valid
+/// (MoveVerticesKeepingValid).
+template <class MeshType, class Field>
+void ProjectVerticesToLevel(MeshType& m, const Field& field, double level, double maxMove, int threads = 0,
+                            double tolerance = 0) {
+  MoveVerticesKeepingValid(
+      m, [&](const Point& x) { return ProjectToLevel(x, field, level, maxMove, 4, tolerance); }, threads);
 }
 
 } // namespace molremesh
