@@ -16,9 +16,9 @@
 // of -probe, and within the probe's reach of every SAS vertex the extracted SAS missed, by the exact
 // depth (sas_distance.h); 4. extract the isosurface at -probe and project its vertices onto the
 // exact depth's level -probe; with minFeatureRadius > 0 the body is first opened by that ball
-// (eroded to -probe - rho, which the exact depth gives as it is, dilated by rho through a second
-// distance field), which drops necks and cusps thinner than rho. VdW and SAS extract step 1's
-// field at 0; the Gaussian sums the atoms' terms over the voxels where each is
+// (eroded to -probe - rho, dilated by rho through a second distance field), which drops necks and
+// cusps thinner than rho. VdW and SAS
+// extract step 1's field at 0; the Gaussian sums the atoms' terms over the voxels where each is
 // above 1e-3 of the level; both project the vertices onto their exact field (atom_fields.h).
 // Every closed component of the extraction is kept: an inner one bounds a cavity (its normals
 // point into the cavity); keepCavities = false keeps only the components enclosing positive volume.
@@ -243,9 +243,7 @@ openvdb::FloatGrid::Ptr SignedDistanceToLevel(const openvdb::FloatGrid& grid, do
 /// since the rebuilt depth errs on the deep side only.
 struct ExactBand {
   float low, high;
-  /// `deeper`: how much further down the band reaches (the opening's erosion reads below it).
-  ExactBand(double level, double band, double h, double deeper = 0)
-      : low(float(level - band - h - deeper)), high(float(level + band)) {}
+  ExactBand(double level, double band, double h) : low(float(level - band - h)), high(float(level + band)) {}
   bool Holds(float value) const { return !(value < low || value > high); }
 };
 
@@ -332,18 +330,21 @@ struct BoundedSasDepth {
 constexpr float kSideBandVoxels = 2.0f;
 
 /// The opening by a ball of radius rho of the region {field < level}, as a signed distance grid
-/// whose zero isosurface bounds it: the region eroded by rho, then dilated by rho (the signed
-/// distance to the eroded region, below rho). Precondition: below the level, down to rho and two
-/// voxels further, the field is the distance to the region's boundary minus |level| (the SAS depth
-/// under the SES is: a point deeper than the probe by t is t from the SES), so the eroded region
-/// is {field < level - rho} and needs no distance field of its own.
+/// whose zero isosurface bounds it: the region eroded by rho (its signed distance below -rho), then
+/// dilated by rho (the signed distance to the eroded region, below rho). The SAS depth below the SES
+/// is itself such a distance and could be eroded as it is, but a wall thinner than a voxel between a
+/// cavity and the outside then opens (4JSV: 2 of 77 cavities); the field rebuilt from the extracted
+/// SES keeps it.
 inline openvdb::FloatGrid::Ptr OpenedRegion(const openvdb::FloatGrid& field, double level, double rho,
                                             double h, int threads) {
-  // The dilation needs distances up to rho outside the eroded region; inside, only what the
-  // mesher and the quadratic sampler reach.
+  // The erosion needs depths down to rho inside, the dilation distances up to rho outside; the
+  // other side, only what the mesher and the quadratic sampler reach.
   const float band = float(rho / h) + 3.0f, side = kSideBandVoxels;
+  openvdb::FloatGrid::Ptr region =
+      SignedDistanceToLevel(field, level, QuadraticGridField(field), h, side, band, threads);
   openvdb::FloatGrid::Ptr opened =
-      SignedDistanceToLevel(field, level - rho, QuadraticGridField(field), h, band, side, threads);
+      SignedDistanceToLevel(*region, -rho, QuadraticGridField(*region), h, band, side, threads);
+  region.reset();
   const float shift = float(rho);
   openvdb::tools::foreach (opened->beginValueOn(),
                            [shift](const openvdb::FloatGrid::ValueOnIter& it) { it.setValue(*it - shift); });
@@ -432,14 +433,7 @@ private:
   /// cut the vertex's concave corner off) before the vertex counts as missed.
   static constexpr double kMissedDepth = 1.0;
 
-  static float InnerBandVoxels(const Params& p) {
-    return float((p.probeRadius + OpeningDepth(p)) / p.gridSpacing) + 2.0f;
-  }
-  /// How much deeper than the exact band around the SES the opening's erosion reads (the band
-  /// holds a minimum feature radius of half a voxel).
-  static double OpeningDepth(const Params& p) {
-    return std::max(0.0, p.minFeatureRadius - 0.5 * p.gridSpacing);
-  }
+  static float InnerBandVoxels(const Params& p) { return float(p.probeRadius / p.gridSpacing) + 2.0f; }
 
   static bool CheckMemory(const std::vector<Atom>& atoms, const Params& p, MolecularSurfaceResult& r) {
     const bool grown = p.kind == MolecularSurfaceKind::Sas || p.kind == MolecularSurfaceKind::Ses;
@@ -520,9 +514,8 @@ private:
     FloatGrid::Ptr exact = surface_detail::SignedDistanceToLevel(
         *grid, 0.0, balls, h, surface_detail::kSideBandVoxels, InnerBandVoxels(p), p.threads);
     grid.reset();
-    const SasBoundaryDistance sasDepth(atoms, p.probeRadius,
-                                       p.probeRadius + OpeningDepth(p) + (kExactBand + 1) * h, p.threads);
-    const surface_detail::ExactBand band(-p.probeRadius, kExactBand * h, h, OpeningDepth(p));
+    const SasBoundaryDistance sasDepth(atoms, p.probeRadius, p.probeRadius + (kExactBand + 1) * h, p.threads);
+    const surface_detail::ExactBand band(-p.probeRadius, kExactBand * h, h);
     surface_detail::MakeExactNear(*exact, sasDepth, band);
     surface_detail::MakeExactAroundMissedVertices(*exact, sasDepth, band, kMissedDepth * h, p.threads);
     const surface_detail::BoundedSasDepth nearSes{sasDepth, p.probeRadius + h};
@@ -534,7 +527,7 @@ private:
       LevelSetToMesh(*opened, m, 0.0);
       Step(p, SesShare::kProjection, "projecting onto the solvent-excluded surface");
       // Onto the opening, then, since away from the removed features the opening is the SES
-      // itself, a last short move onto it: that takes out the re-distancing's inward bias (a few
+      // itself, a last short move onto it: that takes out the two re-distancings' inward bias (a few
       // hundredths of an Å) and stays within a quarter voxel of the opening where it differs. The
       // two moves are checked together (one test for flipped and crossing faces).
       const QuadraticGridField openedField(*opened);
@@ -553,11 +546,11 @@ private:
     ProjectVerticesToLevel(m, nearSes, -p.probeRadius, h, p.threads, kExactTolerance * h);
   }
 
-  /// Where the SES's steps start, as fractions of its build (4JSV's SES at 0.4 Å, 49 s on 2 threads:
-  /// rasterizing 0.8 s, the distance field 24.0, the opening 12.9, the extraction 1.8, the
-  /// projection 9.7).
+  /// Where the SES's steps start, as fractions of its build (4JSV's SES at 0.4 Å, 57 s on 2 threads:
+  /// rasterizing 0.8 s, the distance field 22.9, the opening 22.3, the extraction 1.8, the
+  /// projection 9.1).
   struct SesShare {
-    static constexpr double kDistance = 0.016, kOpening = 0.502, kExtraction = 0.764, kProjection = 0.80;
+    static constexpr double kDistance = 0.014, kOpening = 0.417, kExtraction = 0.808, kProjection = 0.84;
   };
 
   /// Components, cavities (removed unless kept), area and volume.
