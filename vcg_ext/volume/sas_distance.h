@@ -67,7 +67,9 @@ public:
       centres_[at] = atoms[i].position;
       radii_[at] = atoms[i].radius + probe;
     }
-    FindExposedCorners(threads);
+    const std::vector<std::vector<std::uint32_t>> partners = MeetingSpheres(threads);
+    std::vector<std::vector<SpherePair>> cornered = FindExposedCorners(partners, threads);
+    FindExposedCreases(partners, std::move(cornered), threads);
   }
 
   /// Minus the distance from x to the SAS boundary (x inside the SAS, negative), or the distance
@@ -222,22 +224,42 @@ private:
         }
   }
 
+  struct SpherePair {
+    std::uint32_t a, b; ///< a < b
+    bool operator<(const SpherePair& o) const { return a < o.a || (a == o.a && b < o.b); }
+    bool operator==(const SpherePair& o) const { return a == o.a && b == o.b; }
+  };
+
+  /// Per sphere, the other spheres it meets, in increasing order.
+  std::vector<std::vector<std::uint32_t>> MeetingSpheres(int threads) const {
+    std::vector<std::vector<std::uint32_t>> partners(centres_.size());
+    ParallelFor(centres_.size(), threads, [&](std::size_t begin, std::size_t end, int) {
+      for (std::size_t a = begin; a < end; ++a) {
+        ForNear(centres_[a], 2 * largest_, [&](std::uint32_t b) {
+          if (b != a && Meet(std::uint32_t(a), b)) partners[a].push_back(b);
+        });
+        std::sort(partners[a].begin(), partners[a].end());
+      }
+    });
+    return partners;
+  }
+
   /// The points where three spheres meet that lie on no other sphere (the SAS vertices), sorted
-  /// into the cells: per sphere a in cell order, the corners with two later spheres b < c. Then the
-  /// crease circles with an exposed point (FindExposedCreases).
-  void FindExposedCorners(int threads) {
+  /// into the cells: per sphere a in cell order, the corners with two later spheres b < c. Returns,
+  /// per sphere a, the sphere pairs of its corners that have a point on no other sphere (their
+  /// circles have an exposed point).
+  std::vector<std::vector<SpherePair>>
+  FindExposedCorners(const std::vector<std::vector<std::uint32_t>>& meeting, int threads) {
     const std::size_t n = centres_.size();
     std::vector<std::vector<Point>> found(n);
     std::vector<std::vector<SpherePair>> creases(n); // pairs with a corner on no other sphere
     ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
-      std::vector<std::uint32_t> partners;
       for (std::size_t a = begin; a < end; ++a) {
-        partners.clear();
-        ForNear(centres_[a], 2 * largest_, [&](std::uint32_t b) {
-          if (b > a && Meet(std::uint32_t(a), b)) partners.push_back(b);
-        });
-        std::sort(partners.begin(), partners.end());
-        for (std::size_t i = 0; i < partners.size(); ++i)
+        const std::vector<std::uint32_t>& partners = meeting[a];
+        const std::size_t later = // the partners after a
+            std::size_t(std::upper_bound(partners.begin(), partners.end(), std::uint32_t(a)) -
+                        partners.begin());
+        for (std::size_t i = later; i < partners.size(); ++i)
           for (std::size_t j = i + 1; j < partners.size(); ++j) {
             Point y[2];
             const std::uint32_t b = partners[i], c = partners[j];
@@ -263,33 +285,21 @@ private:
     corners_.resize(cornerStart_.back());
     for (const auto& list : found)
       for (const Point& y : list) corners_[fill[CellIndex(CellOf(y, 0), CellOf(y, 1), CellOf(y, 2))]++] = y;
-    FindExposedCreases(std::move(creases), threads);
+    return creases;
   }
-
-  struct SpherePair {
-    std::uint32_t a, b; ///< a < b
-    bool operator<(const SpherePair& o) const { return a < o.a || (a == o.a && b < o.b); }
-    bool operator==(const SpherePair& o) const { return a == o.a && b == o.b; }
-  };
 
   /// The crease circles with an exposed point, listed under both spheres: those with an exposed
   /// corner (`withCorner`, per sphere) and those no third sphere cuts that lie in no single other
   /// sphere (whole exposed circles; a circle no sphere cuts is inside or outside each sphere whole).
-  void FindExposedCreases(std::vector<std::vector<SpherePair>> withCorner, int threads) {
+  void FindExposedCreases(const std::vector<std::vector<std::uint32_t>>& meeting,
+                          std::vector<std::vector<SpherePair>> withCorner, int threads) {
     const std::size_t n = centres_.size();
     std::vector<std::vector<SpherePair>> whole(n);
     ParallelFor(n, threads, [&](std::size_t begin, std::size_t end, int) {
-      std::vector<std::uint32_t> partners;
-      for (std::size_t a = begin; a < end; ++a) {
-        partners.clear();
-        ForNear(centres_[a], 2 * largest_, [&](std::uint32_t b) {
-          if (b != a && Meet(std::uint32_t(a), b)) partners.push_back(b);
-        });
-        std::sort(partners.begin(), partners.end());
-        for (const std::uint32_t b : partners)
-          if (b > a && WholeCircleExposed(std::uint32_t(a), b, partners))
+      for (std::size_t a = begin; a < end; ++a)
+        for (const std::uint32_t b : meeting[a])
+          if (b > a && WholeCircleExposed(std::uint32_t(a), b, meeting[a]))
             whole[a].push_back({std::uint32_t(a), b});
-      }
     });
     std::vector<SpherePair> pairs;
     for (auto* lists : {&withCorner, &whole})
