@@ -1,4 +1,4 @@
-// Acceptance of the full pipeline (issue 5) through the CLI on every shared mesh: every angle in
+// Acceptance of the full pipeline through the CLI on every shared mesh: every angle in
 // [30, 120] degrees, V567 >= 99.8 %, no more obtuse triangles than CGAL's isotropic remeshing
 // left on the same mesh (tests/data/cgal_reference.json), 0 self-intersections, 2-manifold,
 // closed components closed with their genus, volume within 0.5 % of the cleaned input, every
