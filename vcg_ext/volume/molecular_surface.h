@@ -17,9 +17,9 @@
 // depth (sas_distance.h); 4. extract the isosurface at -probe and project its vertices onto the
 // exact depth's level -probe; with minFeatureRadius > 0 the body is first opened by that ball
 // (eroded to -probe - rho, dilated by rho through a second distance field), which drops necks and
-// cusps thinner than rho. VdW and SAS
-// extract step 1's field at 0; the Gaussian sums the atoms' terms over the voxels where each is
-// above 1e-3 of the level; both project the vertices onto their exact field (atom_fields.h).
+// cusps thinner than rho. VdW and SAS extract step 1's field at 0; the Gaussian sums the atoms'
+// terms over the voxels where each is above 1e-3 of the level; both project the vertices onto
+// their exact field (atom_fields.h).
 // Every closed component of the extraction is kept: an inner one bounds a cavity (its normals
 // point into the cavity); keepCavities = false keeps only the components enclosing positive volume.
 //
