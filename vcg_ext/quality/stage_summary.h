@@ -162,7 +162,8 @@ std::string ValenceOptimizationSummary(const Result& r) {
     << "faces with an angle above the max: " << r.largeAnglesBefore << " -> " << r.largeAnglesAfter << "\n"
     << "flips: " << r.flips << ", collapses: " << r.collapses << "\n"
     << "holes refilled with 0/1/2 new vertices: " << r.filledZero << "/" << r.filledOne << "/" << r.filledTwo
-    << " (grown in phase 2: " << r.phaseTwoHoles << "), left as they were: " << r.holesKept << "\n"
+    << " (grown in phase 2: " << r.phaseTwoHoles << "; strips: " << r.strips
+    << "), left as they were: " << r.holesKept << "\n"
     << "rounds: " << r.rounds << "\n";
   return s.str();
 }
@@ -186,7 +187,8 @@ std::string ObtuseReductionSummary(const Result& r) {
          std::to_string(r.angleMaxAfter) + "\nsmallest angle: " + std::to_string(r.angleMinBefore) + " -> " +
          std::to_string(r.angleMinAfter) + "\nmoves: " + std::to_string(r.moves) +
          "\npentagon insertions: " + std::to_string(r.insertions) +
-         "\nrefused: " + std::to_string(r.refused) + "\nrounds: " + std::to_string(r.rounds) + "\n";
+         "\nrefused: " + std::to_string(r.refused) + "\nrounds: " + std::to_string(r.rounds) +
+         (r.creasePass ? " (with the crease pass)" : "") + "\n";
 }
 
 /// LocalSmoothing<MeshType>::Result: its message, the bad faces, the angle range and the edits.

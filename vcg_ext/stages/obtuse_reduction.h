@@ -106,6 +106,15 @@ public:
     bool pentagonInsertion = true;           ///< pentagon point insertion after the translations
     double pentagonNormalDeg = 30.0;         ///< the three triangles' normals must agree within this angle
     int pentagonSamples = 12;                ///< grid resolution of the point search in the pentagon
+    /// Last resort for the faces still obtuse after the rounds, as in small-angle elimination:
+    /// where the reference turns by more than the default guards allow within an edge length (the
+    /// sharp tip of a Gaussian cavity near a critical level, a cusp between atom spheres), every
+    /// translation tilts a face past guards.maxNormalDeviationDeg or folds an adjacent pair past
+    /// guards.maxFoldAngleDeg. The rounds run once more with the normal guard relaxed to this
+    /// angle (below 90, so no face turns over) and the fold guard to creaseFoldAngleDeg;
+    /// intersections and the angle guards unchanged. 0 = off.
+    double creaseNormalDeviationDeg = 89.0;
+    double creaseFoldAngleDeg = 165.0; ///< the fold guard of the crease pass
     LocalOpsGuards guards =
         DefaultGuards(); ///< guards of every edit (minAngleDeg is set to Params::minAngleDeg)
   };
@@ -119,6 +128,7 @@ public:
     std::size_t moves = 0, insertions = 0;         ///< applied translations and pentagon insertions
     std::size_t refused = 0;                       ///< edits refused by the guards of LocalRemeshingOps
     int rounds = 0;                                ///< translation rounds run, all thresholds
+    bool creasePass = false;                       ///< the last-resort pass ran
   };
 
   /// Runs the stage on m (a 2-manifold, consistently oriented mesh with FF and VF adjacency
@@ -158,6 +168,18 @@ public:
     const auto edits = [&](Ops& ops) {
       Session session(ops, params);
       session.Run(r);
+      std::size_t obtuse = 0, over = 0;
+      double lo = 0, hi = 0;
+      if (params.creaseNormalDeviationDeg > guards.maxNormalDeviationDeg &&
+          (Measure(m, lowest, params.threads, obtuse, over, lo, hi), obtuse > 0)) {
+        LocalOpsGuards crease = guards;
+        crease.maxNormalDeviationDeg = params.creaseNormalDeviationDeg;
+        crease.maxFoldAngleDeg = std::max(crease.maxFoldAngleDeg, params.creaseFoldAngleDeg);
+        ops.SetGuards(crease);
+        r.creasePass = true;
+        session.Run(r);
+        ops.SetGuards(guards);
+      }
     };
     if (!RunLocalEdits(m, reference, L, guards, params.threads, params.lockedVertices, error, r.refused,
                        edits))

@@ -120,6 +120,10 @@ public:
     int rounds = 4;                ///< repetitions of flips/collapses + removal/refilling (stops early)
     bool flipsAndCollapses = true; ///< step 1
     bool removeAndRefill = true;   ///< steps 2 and 3
+    /// Step 4: a vertex of valence 3 or 4 that removal could not mend gets one more edge from
+    /// a strip of three faces (its face, the one across the opposite edge, one more) refilled
+    /// as a fan around a new vertex.
+    bool stripRefill = false;
     /// No edit leaves a point of the input near it farther than this x L from the mesh unless it
     /// was as far before (LocalOpsGuards::maxInputDistanceFactor; 0 = off): removing a vertex on
     /// a spike or cusp of the input would otherwise cut it off.
@@ -137,6 +141,7 @@ public:
     std::size_t filledZero = 0, filledOne = 0, filledTwo = 0; ///< holes closed with 0, 1, 2 new vertices
     std::size_t phaseTwoHoles = 0;                            ///< filled holes that grew in phase 2
     std::size_t holesKept = 0; ///< holes no fill was accepted for (the mesh kept its faces)
+    std::size_t strips = 0;    ///< strips refilled (step 4)
     int rounds = 0;
   };
 
@@ -183,7 +188,11 @@ private:
     void EnsureFootpoints(VertexPointer v) { ops.EnsureFootpointsAround(*v, 2); }
     bool ImproveByFlipOrCollapse(VertexPointer v);
     bool RemoveAndRefill(VertexPointer v);
-    bool Refill(const std::vector<FacePointer>& faces);
+    bool RefillStrip(VertexPointer v);
+    bool Refill(const std::vector<FacePointer>& faces, bool onReference = false);
+    void RefineOnReference(std::vector<Point>& pts, std::size_t n,
+                           const std::vector<std::array<int, 3>>& tris, double step, double& minAngle);
+    typename Reference::Scratch scratch;
   };
 
   static double MeanFaceArea(const MeshType& m) {
@@ -219,6 +228,33 @@ private:
   static double FillScore(const std::vector<Point>& pts, std::size_t n,
                           const std::vector<std::array<int, 3>>& tris, double* minAngle = nullptr,
                           double* maxAngle = nullptr);
+  /// Compass search on the new vertices pts[n..]: each tries pts[j] + d x step for every direction
+  /// d, through place(j, point) (where the trial point would land), kept when FillScore improves;
+  /// up to `passes` sweeps per step, `levels` halvings of the step.
+  template <std::size_t D, class Place>
+  static void CompassSearch(std::vector<Point>& pts, std::size_t n,
+                            const std::vector<std::array<int, 3>>& tris, const std::array<Point, D>& dirs,
+                            double step, int levels, int passes, Place&& place) {
+    double best = FillScore(pts, n, tris);
+    for (int level = 0; level < levels; ++level, step *= 0.5) {
+      bool improved = true;
+      for (int pass = 0; pass < passes && improved; ++pass) {
+        improved = false;
+        for (std::size_t j = n; j < pts.size(); ++j)
+          for (const Point& d : dirs) {
+            const Point keep = pts[j];
+            pts[j] = place(j, keep + d * step);
+            const double score = FillScore(pts, n, tris);
+            if (score > best + 1e-9) {
+              best = score;
+              improved = true;
+            } else {
+              pts[j] = keep;
+            }
+          }
+      }
+    }
+  }
 };
 
 // ------------------------------------------------------------------------------------------------
@@ -284,7 +320,6 @@ double ValenceOptimization<MeshType>::PlaceNewVertices(std::vector<Point>& pts, 
   Point t1 = std::fabs(normal[0]) < 0.9 ? Point(1, 0, 0) : Point(0, 1, 0);
   t1 = (t1 - normal * (t1 * normal)).Normalize();
   const Point t2 = normal ^ t1;
-  double best = FillScore(pts, n, tris);
   const std::array<Point, 8> dirs = {t1,
                                      -t1,
                                      t2,
@@ -293,24 +328,7 @@ double ValenceOptimization<MeshType>::PlaceNewVertices(std::vector<Point>& pts, 
                                      (t1 - t2) * M_SQRT1_2,
                                      (-t1 + t2) * M_SQRT1_2,
                                      (-t1 - t2) * M_SQRT1_2};
-  for (int level = 0; level < 7; ++level, step *= 0.5) {
-    bool improved = true;
-    for (int pass = 0; pass < 12 && improved; ++pass) {
-      improved = false;
-      for (std::size_t j = n; j < pts.size(); ++j)
-        for (const Point& d : dirs) {
-          const Point keep = pts[j];
-          pts[j] = keep + d * step;
-          const double s = FillScore(pts, n, tris);
-          if (s > best + 1e-9) {
-            best = s;
-            improved = true;
-          } else {
-            pts[j] = keep;
-          }
-        }
-    }
-  }
+  CompassSearch(pts, n, tris, dirs, step, 7, 12, [](std::size_t, const Point& p) { return p; });
   double lo;
   FillScore(pts, n, tris, &lo);
   return lo;
@@ -378,7 +396,35 @@ bool ValenceOptimization<MeshType>::Session::ImproveByFlipOrCollapse(VertexPoint
 }
 
 template <class MeshType>
-bool ValenceOptimization<MeshType>::Session::Refill(const std::vector<FacePointer>& faces) {
+void ValenceOptimization<MeshType>::Session::RefineOnReference(std::vector<Point>& pts, std::size_t n,
+                                                               const std::vector<std::array<int, 3>>& tris,
+                                                               double step, double& minAngle) {
+  // The compass search of PlaceNewVertices, but each trial point is scored where ReplaceDisk will
+  // put it: projected onto the reference near the closest rim vertex's footpoint. In a pit or a
+  // saddle the planar optimum lands elsewhere and its angles change.
+  const Reference& ref = ops.GetReference();
+  std::vector<int> hint(pts.size() - n, -1);
+  for (std::size_t j = n; j < pts.size(); ++j) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i)
+      if ((pts[i] - pts[j]).SquaredNorm() < best) {
+        best = (pts[i] - pts[j]).SquaredNorm();
+        hint[j - n] = ops.Footpoint(*loop[i]);
+      }
+  }
+  auto project = [&](std::size_t j, const Point& p) {
+    const SurfaceProjection q = ref.Project(p, hint[j - n], scratch);
+    return q.ok() ? q.point : p;
+  };
+  for (std::size_t j = n; j < pts.size(); ++j) pts[j] = project(j, pts[j]);
+  const std::array<Point, 6> dirs = {Point(1, 0, 0),  Point(-1, 0, 0), Point(0, 1, 0),
+                                     Point(0, -1, 0), Point(0, 0, 1),  Point(0, 0, -1)};
+  CompassSearch(pts, n, tris, dirs, step, 4, 6, project);
+  FillScore(pts, n, tris, &minAngle);
+}
+
+template <class MeshType>
+bool ValenceOptimization<MeshType>::Session::Refill(const std::vector<FacePointer>& faces, bool onReference) {
   if (!ops.DiskBoundary(faces, loop, interior)) return false;
   const std::size_t n = loop.size();
   if (n < 3 || n > 10) return false;
@@ -462,6 +508,8 @@ bool ValenceOptimization<MeshType>::Session::Refill(const std::vector<FacePointe
           FillScore(fill.pts, n, fill.tris, &lo);
           return lo;
         }();
+    if (onReference && fill.newVertices)
+      RefineOnReference(fill.pts, n, fill.tris, 0.1 * meanRim, fill.minAngle);
   }
   std::stable_sort(fills.begin(), fills.begin() + std::ptrdiff_t(tryCount), [](const Fill& a, const Fill& b) {
     return a.after < b.after || (!(b.after < a.after) && a.minAngle > b.minAngle);
@@ -489,6 +537,7 @@ bool ValenceOptimization<MeshType>::Session::Refill(const std::vector<FacePointe
 template <class MeshType>
 bool ValenceOptimization<MeshType>::Session::RemoveAndRefill(VertexPointer v) {
   if (ops.IsBoundaryVertex(*v) || ops.IsLocked(*v)) return false;
+  const std::size_t vIndex = vcg::tri::Index(m, v); // a refused fill may move the vertices
   // Phase 1: the star of v.
   phaseOne.clear();
   double area = 0;
@@ -533,7 +582,36 @@ bool ValenceOptimization<MeshType>::Session::RemoveAndRefill(VertexPointer v) {
     for (const std::size_t i : phaseOneIdx) phaseOne.push_back(&m.face[i]);
   }
   if (Refill(phaseOne)) return true;
+  if (params.stripRefill && RefillStrip(&m.vert[vIndex])) return true;
   ++result.holesKept;
+  return false;
+}
+
+template <class MeshType>
+bool ValenceOptimization<MeshType>::Session::RefillStrip(VertexPointer v) {
+  if (ops.Valence(*v) > 4) return false;
+  // Strips of three faces: a face of v, the face across the edge opposite v, and one of the
+  // faces across that face's two other edges. Their loop has five vertices, v among them.
+  std::vector<std::array<std::size_t, 3>> strips;
+  for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it) {
+    FacePointer f0 = it.F();
+    const int e = (it.I() + 1) % 3;
+    FacePointer f1 = f0->FFp(e);
+    if (f1 == f0) continue;
+    const int j = f0->FFi(e);
+    for (const int e1 : {(j + 1) % 3, (j + 2) % 3}) {
+      FacePointer f2 = f1->FFp(e1);
+      if (f2 == f1 || f2 == f0) continue;
+      strips.push_back({vcg::tri::Index(m, f0), vcg::tri::Index(m, f1), vcg::tri::Index(m, f2)});
+    }
+  }
+  for (const auto& s : strips) {
+    std::vector<FacePointer> faces{&m.face[s[0]], &m.face[s[1]], &m.face[s[2]]};
+    if (Refill(faces, /*onReference=*/true)) {
+      ++result.strips;
+      return true;
+    }
+  }
   return false;
 }
 
