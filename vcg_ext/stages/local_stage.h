@@ -16,6 +16,7 @@
 
 #include <vcg/simplex/face/pos.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -118,6 +119,23 @@ void LockVertices(Ops& ops, const std::vector<std::uint8_t>& locked) {
   auto& m = ops.Mesh();
   for (std::size_t i = 0; i < locked.size() && i < m.vert.size(); ++i)
     if (locked[i]) ops.SetLocked(m.vert[i], true);
+}
+
+/// The local stages' last resort for the faces still bad after their rounds, which usually straddle a
+/// sharp crease: when normalDeg relaxes the normal guard of `guards` and stillBad() is true, runs
+/// rounds() once more with the normal guard at normalDeg (below 90, so no face turns over) and the
+/// fold guard at least foldDeg, then restores `guards`. Returns whether the pass ran.
+template <class Ops, class StillBad, class Rounds>
+bool RunCreasePass(Ops& ops, const LocalOpsGuards& guards, double normalDeg, double foldDeg,
+                   StillBad&& stillBad, Rounds&& rounds) {
+  if (!(normalDeg > guards.maxNormalDeviationDeg) || !stillBad()) return false;
+  LocalOpsGuards crease = guards;
+  crease.maxNormalDeviationDeg = normalDeg;
+  crease.maxFoldAngleDeg = std::max(crease.maxFoldAngleDeg, foldDeg);
+  ops.SetGuards(crease);
+  rounds();
+  ops.SetGuards(guards);
+  return true;
 }
 
 /// Runs a local stage's edits on m: LocalRemeshingOps with `guards` (lazy footpoints) and the

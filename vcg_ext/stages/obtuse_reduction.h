@@ -168,18 +168,14 @@ public:
     const auto edits = [&](Ops& ops) {
       Session session(ops, params);
       session.Run(r);
-      std::size_t obtuse = 0, over = 0;
-      double lo = 0, hi = 0;
-      if (params.creaseNormalDeviationDeg > guards.maxNormalDeviationDeg &&
-          (Measure(m, lowest, params.threads, obtuse, over, lo, hi), obtuse > 0)) {
-        LocalOpsGuards crease = guards;
-        crease.maxNormalDeviationDeg = params.creaseNormalDeviationDeg;
-        crease.maxFoldAngleDeg = std::max(crease.maxFoldAngleDeg, params.creaseFoldAngleDeg);
-        ops.SetGuards(crease);
-        r.creasePass = true;
-        session.Run(r);
-        ops.SetGuards(guards);
-      }
+      const auto stillObtuse = [&] {
+        std::size_t obtuse = 0, over = 0;
+        double lo = 0, hi = 0;
+        Measure(m, lowest, params.threads, obtuse, over, lo, hi);
+        return obtuse > 0;
+      };
+      r.creasePass = RunCreasePass(ops, guards, params.creaseNormalDeviationDeg, params.creaseFoldAngleDeg,
+                                   stillObtuse, [&] { session.Run(r); });
     };
     if (!RunLocalEdits(m, reference, L, guards, params.threads, params.lockedVertices, error, r.refused,
                        edits))

@@ -145,19 +145,17 @@ public:
     const auto edits = [&](Ops& ops) {
       Session session(ops, params, L);
       session.Run(r);
-      double angleMin = 0;
-      if (params.creaseNormalDeviationDeg > guards.maxNormalDeviationDeg &&
-          CountSmall(m, params.minAngleDeg, params.threads, angleMin) > 0) {
-        LocalOpsGuards crease = guards;
-        crease.maxNormalDeviationDeg = params.creaseNormalDeviationDeg;
-        crease.maxFoldAngleDeg = std::max(crease.maxFoldAngleDeg, params.creaseFoldAngleDeg);
-        ops.SetGuards(crease);
-        r.creasePass = true;
+      const auto stillSmall = [&] {
+        double angleMin = 0;
+        return CountSmall(m, params.minAngleDeg, params.threads, angleMin) > 0;
+      };
+      const auto moreRounds = [&] {
         const int rounds = r.iterations;
         session.Run(r);
         r.iterations += rounds;
-        ops.SetGuards(guards);
-      }
+      };
+      r.creasePass = RunCreasePass(ops, guards, params.creaseNormalDeviationDeg, params.creaseFoldAngleDeg,
+                                   stillSmall, moreRounds);
     };
     if (!RunLocalEdits(m, reference, L, guards, params.threads, params.lockedVertices, error, r.refused,
                        edits))

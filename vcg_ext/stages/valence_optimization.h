@@ -406,11 +406,10 @@ void ValenceOptimization<MeshType>::Session::RefineOnReference(std::vector<Point
   std::vector<int> hint(pts.size() - n, -1);
   for (std::size_t j = n; j < pts.size(); ++j) {
     double best = std::numeric_limits<double>::infinity();
-    for (std::size_t i = 0; i < n; ++i)
-      if ((pts[i] - pts[j]).SquaredNorm() < best) {
-        best = (pts[i] - pts[j]).SquaredNorm();
-        hint[j - n] = ops.Footpoint(*loop[i]);
-      }
+    for (std::size_t i = 0; i < n; ++i) {
+      const double d = (pts[i] - pts[j]).SquaredNorm();
+      if (d < best) best = d, hint[j - n] = ops.Footpoint(*loop[i]);
+    }
   }
   auto project = [&](std::size_t j, const Point& p) {
     const SurfaceProjection q = ref.Project(p, hint[j - n], scratch);
