@@ -236,7 +236,7 @@ public:
   static typename ValenceOptimization<MeshType>::Params PolishDefaults() {
     typename ValenceOptimization<MeshType>::Params p;
     p.maxAngleDeg = 90.0; // the last obtuse threshold: no edit may add an obtuse face
-    p.stripRefill = true;
+    p.refillOnReference = true;
     return p;
   }
 

@@ -162,7 +162,8 @@ std::string ValenceOptimizationSummary(const Result& r) {
     << "faces with an angle above the max: " << r.largeAnglesBefore << " -> " << r.largeAnglesAfter << "\n"
     << "flips: " << r.flips << ", collapses: " << r.collapses << "\n"
     << "holes refilled with 0/1/2 new vertices: " << r.filledZero << "/" << r.filledOne << "/" << r.filledTwo
-    << " (grown in phase 2: " << r.phaseTwoHoles << "; strips: " << r.strips
+    << " (grown in phase 2: " << r.phaseTwoHoles << "; on the reference: " << r.starsOnReference << " stars, "
+    << r.strips << " strips"
     << "), left as they were: " << r.holesKept << "\n"
     << "rounds: " << r.rounds << "\n";
   return s.str();

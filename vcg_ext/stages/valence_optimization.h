@@ -120,10 +120,13 @@ public:
     int rounds = 4;                ///< repetitions of flips/collapses + removal/refilling (stops early)
     bool flipsAndCollapses = true; ///< step 1
     bool removeAndRefill = true;   ///< steps 2 and 3
-    /// Step 4: a vertex of valence 3 or 4 that removal could not mend gets one more edge from
-    /// a strip of three faces (its face, the one across the opposite edge, one more) refilled
-    /// as a fan around a new vertex.
-    bool stripRefill = false;
+    /// Step 4, for the vertices removal could not mend: refills whose new vertices are placed by
+    /// a search that scores each trial point where it lands on the reference (in a pit or a saddle
+    /// the point found in the hole's mean plane projects elsewhere and its angles change). A
+    /// vertex of valence 8 or more gets its star refilled again so; one of valence 3 or 4 gets one
+    /// more edge from a strip of three faces (its face, the one across the opposite edge, one
+    /// more) refilled as a fan around a new vertex.
+    bool refillOnReference = false;
     /// No edit leaves a point of the input near it farther than this x L from the mesh unless it
     /// was as far before (LocalOpsGuards::maxInputDistanceFactor; 0 = off): removing a vertex on
     /// a spike or cusp of the input would otherwise cut it off.
@@ -140,8 +143,9 @@ public:
     std::size_t flips = 0, collapses = 0;
     std::size_t filledZero = 0, filledOne = 0, filledTwo = 0; ///< holes closed with 0, 1, 2 new vertices
     std::size_t phaseTwoHoles = 0;                            ///< filled holes that grew in phase 2
-    std::size_t holesKept = 0; ///< holes no fill was accepted for (the mesh kept its faces)
-    std::size_t strips = 0;    ///< strips refilled (step 4)
+    std::size_t holesKept = 0;        ///< holes no fill was accepted for (the mesh kept its faces)
+    std::size_t starsOnReference = 0; ///< stars refilled with their new vertices on the reference (step 4)
+    std::size_t strips = 0;           ///< strips refilled (step 4)
     int rounds = 0;
   };
 
@@ -188,6 +192,8 @@ private:
     void EnsureFootpoints(VertexPointer v) { ops.EnsureFootpointsAround(*v, 2); }
     bool ImproveByFlipOrCollapse(VertexPointer v);
     bool RemoveAndRefill(VertexPointer v);
+    /// Step 4 for the vertex m.vert[vIndex] whose star (faces starIdx) no planar refill mended.
+    bool RefillOnReference(std::size_t vIndex, const std::vector<std::size_t>& starIdx);
     bool RefillStrip(VertexPointer v);
     bool Refill(const std::vector<FacePointer>& faces, bool onReference = false);
     void RefineOnReference(std::vector<Point>& pts, std::size_t n,
@@ -581,9 +587,24 @@ bool ValenceOptimization<MeshType>::Session::RemoveAndRefill(VertexPointer v) {
     for (const std::size_t i : phaseOneIdx) phaseOne.push_back(&m.face[i]);
   }
   if (Refill(phaseOne)) return true;
-  if (params.stripRefill && RefillStrip(&m.vert[vIndex])) return true;
+  if (params.refillOnReference && RefillOnReference(vIndex, phaseOneIdx)) return true;
   ++result.holesKept;
   return false;
+}
+
+template <class MeshType>
+bool ValenceOptimization<MeshType>::Session::RefillOnReference(std::size_t vIndex,
+                                                               const std::vector<std::size_t>& starIdx) {
+  VertexPointer v = &m.vert[vIndex];
+  const int valence = ops.Valence(*v);
+  if (valence <= 4) return RefillStrip(v);
+  if (valence < 8) return false;
+  // The planar refill of the star was refused (a failed refill may have moved the faces).
+  std::vector<FacePointer> star;
+  for (const std::size_t i : starIdx) star.push_back(&m.face[i]);
+  if (!Refill(star, /*onReference=*/true)) return false;
+  ++result.starsOnReference;
+  return true;
 }
 
 template <class MeshType>
