@@ -19,7 +19,11 @@
 //     (outside the circle that has the rim edge as diameter), then ReplaceDisk projects them
 //     onto the reference. When the phase-2 hole cannot be filled, the phase-1 hole is tried; when
 //     that fails too the mesh stays as it was (every edit is transactional: a refused edit
-//     leaves the mesh bit-identical).
+//     leaves the mesh bit-identical);
+//  4. with Params::refillOnReference (polish), for a vertex steps 2 and 3 could not mend: its
+//     star refilled again (valence 8 or more) or a strip of three faces refilled as a fan
+//     (valence 3 or 4), with each trial position of the new vertices scored where it lands on
+//     the reference.
 // Every edit goes through LocalRemeshingOps with the angle guard Params::minAngleDeg and
 // Params::maxAngleDeg in strict form (Guards::noMoreBadFaces): an edit never leaves more faces
 // with an angle below the min (above the max) than it removed, and never makes the worst angle
