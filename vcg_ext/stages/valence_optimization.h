@@ -198,7 +198,14 @@ private:
     bool RemoveAndRefill(VertexPointer v);
     /// Step 4 for the vertex m.vert[vIndex] whose star (faces starIdx) no planar refill mended.
     bool RefillOnReference(std::size_t vIndex, const std::vector<std::size_t>& starIdx);
+    /// Step 4 for a vertex of valence 3 or 4.
     bool RefillStrip(VertexPointer v);
+    /// The faces at these indices (kept as indices where a refused refill may move the faces).
+    std::vector<FacePointer> FacesAt(const std::vector<std::size_t>& idx) {
+      std::vector<FacePointer> faces;
+      for (const std::size_t i : idx) faces.push_back(&m.face[i]);
+      return faces;
+    }
     bool Refill(const std::vector<FacePointer>& faces, bool onReference = false);
     void RefineOnReference(std::vector<Point>& pts, std::size_t n,
                            const std::vector<std::array<int, 3>>& tris, double step, double& minAngle);
@@ -587,8 +594,7 @@ bool ValenceOptimization<MeshType>::Session::RemoveAndRefill(VertexPointer v) {
       ++result.phaseTwoHoles;
       return true;
     }
-    phaseOne.clear();
-    for (const std::size_t i : phaseOneIdx) phaseOne.push_back(&m.face[i]);
+    phaseOne = FacesAt(phaseOneIdx);
   }
   if (Refill(phaseOne)) return true;
   if (params.refillOnReference && RefillOnReference(vIndex, phaseOneIdx)) return true;
@@ -604,19 +610,16 @@ bool ValenceOptimization<MeshType>::Session::RefillOnReference(std::size_t vInde
   if (valence <= 4) return RefillStrip(v);
   if (valence < 8) return false;
   // The planar refill of the star was refused (a failed refill may have moved the faces).
-  std::vector<FacePointer> star;
-  for (const std::size_t i : starIdx) star.push_back(&m.face[i]);
-  if (!Refill(star, /*onReference=*/true)) return false;
+  if (!Refill(FacesAt(starIdx), /*onReference=*/true)) return false;
   ++result.starsOnReference;
   return true;
 }
 
 template <class MeshType>
 bool ValenceOptimization<MeshType>::Session::RefillStrip(VertexPointer v) {
-  if (ops.Valence(*v) > 4) return false;
   // Strips of three faces: a face of v, the face across the edge opposite v, and one of the
   // faces across that face's two other edges. Their loop has five vertices, v among them.
-  std::vector<std::array<std::size_t, 3>> strips;
+  std::vector<std::vector<std::size_t>> strips;
   for (vcg::face::VFIterator<FaceType> it(v); !it.End(); ++it) {
     FacePointer f0 = it.F();
     const int e = (it.I() + 1) % 3;
@@ -630,8 +633,7 @@ bool ValenceOptimization<MeshType>::Session::RefillStrip(VertexPointer v) {
     }
   }
   for (const auto& s : strips) {
-    std::vector<FacePointer> faces{&m.face[s[0]], &m.face[s[1]], &m.face[s[2]]};
-    if (Refill(faces, /*onReference=*/true)) {
+    if (Refill(FacesAt(s), /*onReference=*/true)) {
       ++result.strips;
       return true;
     }
