@@ -215,6 +215,7 @@ struct RemeshOptions {
   double minComponentVolume = molremesh::CleanRawMesh<MeshD>::Params().minComponentVolume;
   int minComponentFaces = molremesh::CleanRawMesh<MeshD>::Params().minComponentFaces;
   bool noVolumetricFallback = !molremesh::CleanRawMesh<MeshD>::Params().volumetricFallback;
+  bool volumetricRebuild = molremesh::CleanRawMesh<MeshD>::Params().volumetricRebuild;
   std::string nestedComponents = "auto";
   double memoryLimitMB = 0; // 0: the memory available when the run starts; < 0: no check
   std::string jsonPath;
@@ -308,6 +309,7 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.clean.minComponentVolume = options.minComponentVolume;
   params.clean.minComponentFaces = options.minComponentFaces;
   params.clean.volumetricFallback = !options.noVolumetricFallback;
+  params.clean.volumetricRebuild = options.volumetricRebuild;
   params.clean.nestedComponents = options.nestedComponents == "union"    ? molremesh::NestedComponents::Union
                                   : options.nestedComponents == "parity" ? molremesh::NestedComponents::Parity
                                                                          : molremesh::NestedComponents::Auto;
@@ -476,6 +478,11 @@ void AddCleanOptions(CLI::App* remesh, CommandLine& c) {
   remesh->add_flag("--no-volumetric-fallback", c.remesh.noVolumetricFallback,
                    "Clean: do not rebuild the surface from a volume when the local repairs leave defects "
                    "(the output may then be invalid, exit status 3)");
+  remesh->add_flag("--volumetric-rebuild", c.remesh.volumetricRebuild,
+                   "Clean: rebuild the surface from a volume (voxel half the mean edge) even without "
+                   "defects; removes the parts thinner than about the mean edge (fins, tubes, necks, "
+                   "pinched voids) that no remesh keeps within the angle bounds, and seals crevices as "
+                   "narrow");
   remesh
       ->add_option(
           "--nested-components", c.remesh.nestedComponents,

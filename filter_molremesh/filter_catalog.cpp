@@ -233,9 +233,15 @@ void AddClean(List& list) {
   list.push_back({Type::Float, "minComponentPercent", 100 * defaults.minComponentFraction,
                   "Drop pieces below (% of faces)",
                   "Separate pieces with fewer faces than this share are removed (and counted; never the "
-                  "largest). Default 1 %; 0 keeps every piece, e.g. cavities."});
+                  "largest). Default 0: every piece is kept, cavities included."});
   list.push_back({Type::Bool, "repairTangles", double(defaults.repairTangles), "Repair small tangles",
                   "Remove and refill small self-intersecting or inside-out regions (default on)."});
+  list.push_back({Type::Bool, "volumetricRebuild", double(defaults.volumetricRebuild),
+                  "Rebuild from a volume",
+                  "Rebuild the whole surface from the volume it encloses (voxel half the mean edge) even "
+                  "when it has no defect (default off; a surface the repairs leave broken is rebuilt "
+                  "anyway). Parts thinner than about the mean edge go (fins, tubes, necks, pinched voids "
+                  "that no remesh keeps within the angle bounds) and crevices as narrow are sealed."});
 }
 /// For the filters that build a new mesh at the target edge length (CVT, RAR, full pipeline).
 void AddMemoryLimit(List& list) {
@@ -503,6 +509,7 @@ std::string ReadStageParameters(const ParameterValues& values, Pipeline::Params&
   if (has("minComponentPercent"))
     params.clean.minComponentFraction = values.Float("minComponentPercent") / 100.0;
   if (has("repairTangles")) params.clean.repairTangles = values.Bool("repairTangles");
+  if (has("volumetricRebuild")) params.clean.volumetricRebuild = values.Bool("volumetricRebuild");
   if (has("iterations")) params.cvt.iterations = values.Int("iterations");
   if (has("targetLength")) params.targetEdgeLength = values.Float("targetLength");
   if (has("targetVertexCount"))

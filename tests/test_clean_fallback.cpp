@@ -9,6 +9,7 @@
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/quality/stage_summary.h>
 
+#include <vcg/complex/algorithms/stat.h>
 #include <vcg/complex/append.h>
 
 #include <cmath>
@@ -36,6 +37,20 @@ void TwoBallsWithACavity(MeshD& m) {
   vcg::tri::UpdateTopology<MeshD>::VertexFace(m);
 }
 
+/// The surface was rebuilt, and the rebuild cleaned into a closed, 2-manifold, coherently oriented
+/// mesh with no degenerate face, no self-intersection and no defect left.
+void ExpectAValidRebuild(const CleanStage::Result& r, MeshD& m) { // m: vcglib's check takes it non-const
+  ASSERT_TRUE(r.fallback.available);
+  ASSERT_TRUE(r.fallback.rebuilt) << r.fallback.message;
+  EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
+  EXPECT_EQ(r.reportAfter.nonManifoldEdges, 0u);
+  EXPECT_EQ(r.reportAfter.nonManifoldVertices, 0u);
+  EXPECT_EQ(r.reportAfter.degenerateFaces, 0u);
+  EXPECT_EQ(r.reportAfter.selfIntersectingFaces, 0u);
+  EXPECT_EQ(r.unrepairedTangles + r.unfilledHoles + r.nonOrientableComponents, 0u);
+  EXPECT_TRUE(vcg::tri::Clean<MeshD>::IsCoherentlyOrientedMesh(m));
+}
+
 } // namespace
 
 TEST(CleanFallback, InterpenetratingSheetsAreRebuiltAsTheirUnionWithTheCavityKept) {
@@ -49,15 +64,7 @@ TEST(CleanFallback, InterpenetratingSheetsAreRebuiltAsTheirUnionWithTheCavityKep
     const auto r = CleanStage::Do(m);
     ASSERT_TRUE(r.ok) << r.message;
     ASSERT_FALSE(r.fallback.trigger.empty()); // the local steps cannot untangle two closed sheets
-    ASSERT_TRUE(r.fallback.available);
-    ASSERT_TRUE(r.fallback.rebuilt) << r.fallback.message;
-    EXPECT_EQ(r.reportAfter.boundaryEdges, 0u);
-    EXPECT_EQ(r.reportAfter.nonManifoldEdges, 0u);
-    EXPECT_EQ(r.reportAfter.nonManifoldVertices, 0u);
-    EXPECT_EQ(r.reportAfter.degenerateFaces, 0u);
-    EXPECT_EQ(r.reportAfter.selfIntersectingFaces, 0u);
-    EXPECT_EQ(r.unrepairedTangles + r.unfilledHoles + r.nonOrientableComponents, 0u);
-    EXPECT_TRUE(vcg::tri::Clean<MeshD>::IsCoherentlyOrientedMesh(m));
+    ExpectAValidRebuild(r, m);
     EXPECT_NEAR(r.reportAfter.volume, expected, 0.02 * expected);
     ASSERT_EQ(r.keptComponents.size(), 2u); // the union and the cavity
     EXPECT_GT(r.keptComponents[0].volume, 0);
@@ -76,4 +83,39 @@ TEST(CleanFallback, InterpenetratingSheetsAreRebuiltAsTheirUnionWithTheCavityKep
     EXPECT_TRUE(r.fallback.trigger.empty()); // not looked at when off
     EXPECT_GT(r.reportAfter.selfIntersectingFaces, 0u);
   }
+}
+
+TEST(CleanFallback, RequestedRebuildOfAValidSurfaceDropsItsPartsThinnerThanTwoVoxels) {
+  // A ball of radius 10 and, apart from it, a closed slab 0.2 thick: valid, so only the request
+  // rebuilds it, at a voxel of half the mean edge (about 0.3), which leaves no room inside the slab.
+  double ballVolume = 0;
+  auto ballAndSlab = [&ballVolume](MeshD& m) {
+    MeshD slab;
+    molremesh::test::Icosphere(m, 4, Point(0, 0, 0), Point(10, 10, 10));
+    ballVolume = vcg::tri::Stat<MeshD>::ComputeMeshVolume(m);
+    molremesh::test::Icosphere(slab, 3, Point(25, 0, 0), Point(3, 3, 0.1));
+    vcg::tri::Append<MeshD, MeshD>::Mesh(m, slab);
+  };
+  {
+    MeshD m;
+    ballAndSlab(m);
+    const auto r = CleanStage::Do(m);
+    ASSERT_TRUE(r.ok) << r.message;
+    EXPECT_TRUE(r.fallback.trigger.empty());
+    EXPECT_EQ(r.keptComponents.size(), 2u);
+  }
+  MeshD m;
+  ballAndSlab(m);
+  CleanStage::Params params;
+  params.volumetricRebuild = true;
+  const auto r = CleanStage::Do(m, params);
+  ASSERT_TRUE(r.ok) << r.message;
+  ExpectAValidRebuild(r, m);
+  EXPECT_NE(r.fallback.trigger.find("volumetricRebuild"), std::string::npos);
+  ASSERT_EQ(r.keptComponents.size(), 1u); // the slab is gone
+  EXPECT_NEAR(r.keptComponents[0].volume, ballVolume, 0.01 * ballVolume);
+  vcg::Box3<double> box;
+  for (const auto& v : m.vert)
+    if (!v.IsD()) box.Add(v.cP());
+  EXPECT_LT(box.max[0], 10.5); // nothing left where the slab was
 }

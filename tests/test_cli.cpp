@@ -303,6 +303,30 @@ TEST(Cli, InterpenetratingSpheresAreRebuiltIntoAValidOutput) {
   std::filesystem::remove_all(dir);
 }
 
+// --volumetric-rebuild rebuilds a valid surface too: a slab far thinner than the mean edge, apart
+// from a ball, is gone from the output; without the flag both stay.
+TEST(Cli, VolumetricRebuildRemovesAPartThinnerThanTheEdges) {
+  const auto dir = TempDir("cli_volumetric_rebuild");
+  molremesh::MeshD ball, slab;
+  molremesh::test::Icosphere(ball, 3, molremesh::test::Point(0, 0, 0), molremesh::test::Point(5, 5, 5));
+  molremesh::test::Icosphere(slab, 2, molremesh::test::Point(12, 0, 0), molremesh::test::Point(2, 2, 0.05));
+  molremesh::test::AppendMesh(ball, slab);
+  const std::string input = (dir / "ball_and_slab.off").string(), json = (dir / "out.json").string();
+  std::string error;
+  ASSERT_TRUE(molremesh::SaveMesh(ball, input, error)) << error;
+  auto componentsOut = [&](const std::string& flag) {
+    const CommandResult r = Cli("remesh --quiet --stages clean " + flag + Quote(input) + " " +
+                                Quote((dir / "out.ply").string()) + " --json " + Quote(json));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    const auto j = ReadJson(json);
+    EXPECT_TRUE(j["verdict"]["valid"].get<bool>());
+    return j["output"]["components"].get<int>();
+  };
+  EXPECT_EQ(componentsOut(""), 2);
+  EXPECT_EQ(componentsOut("--volumetric-rebuild "), 1);
+  std::filesystem::remove_all(dir);
+}
+
 // A hole longer than --max-hole-edges stays open: the output is valid (exit status 0) but not
 // closed, and a warning says so and which limit kept the hole.
 TEST(Cli, OpenOutputWarnsWhichLimitKeptTheHole) {

@@ -99,3 +99,22 @@ TEST(OutputVerdict, AngleAndValenceTargetsOnlyWhenTheirStagesRan) {
   EXPECT_TRUE(Mentions(v.shortOf, "largest angle 138.40 deg"));
   EXPECT_TRUE(Mentions(v.shortOf, "V567 99.10 %"));
 }
+
+TEST(OutputVerdict, MissedAnglesNameTheVolumetricRebuildOnceUnlessTheSurfaceWasRebuilt) {
+  QualityReport r = GoodOutput();
+  r.angleMin = 13.3;
+  r.angleMax = 138.4;
+  OutputTargets targets;
+  targets.checkAngles = true;
+  auto advised = [](const OutputVerdict& v) {
+    std::size_t n = 0;
+    for (const auto& line : v.shortOf) n += line.find("volumetric rebuild") != std::string::npos;
+    return n;
+  };
+  EXPECT_EQ(advised(OutputVerdict::Of(r, targets)), 1u); // on the last of the two angle lines
+  r.angleMax = 88.0;
+  EXPECT_EQ(advised(OutputVerdict::Of(r, targets)), 1u);
+  targets.rebuiltVolumetrically = true; // nothing thin is left to remove: no advice
+  EXPECT_EQ(advised(OutputVerdict::Of(r, targets)), 0u);
+  EXPECT_FALSE(OutputVerdict::Of(r, targets).AllMet());
+}

@@ -34,8 +34,13 @@ struct CleanRawMeshParams {
           ///< triangles evaluated (an n-sided loop costs n^3 / 6 per triangulation, retries included) per
           ///< input face, never below kMinFillWork; a fill past it is refused and its region or loop left
           ///< as it is (counted in fillBudgetRefusals), so no step grows super-linearly. 0 = unbounded
-  bool volumetricFallback = true;   ///< rebuild the whole surface volumetrically when the local steps
-                                    ///< leave a defect, then clean the rebuild (volumetric_fallback.h)
+  bool volumetricFallback = true; ///< rebuild the whole surface volumetrically when the local steps
+                                  ///< leave a defect, then clean the rebuild (volumetric_fallback.h)
+  /// Opt-in: rebuild the whole surface volumetrically (step 13) even when the local steps leave no
+  /// defect. The rebuild (voxel half the input's mean edge) keeps no part thinner than about two
+  /// voxels: the fins, tubes, necks and pinched voids of coarse marching-cubes and Gaussian surfaces
+  /// that no remesh at L keeps within the angle bounds go, and crevices as narrow are sealed.
+  bool volumetricRebuild = false;
   bool orientCavitiesInward = true; ///< cavity components (nested in another closed one) get negative volume
   /// How a closed component nested in others is read (step 11, orientation.h): Union removes one
   /// oriented as the region around it (a piece inside the union, not a cavity); Parity makes every

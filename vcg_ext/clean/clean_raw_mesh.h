@@ -49,7 +49,9 @@
 //      boundary of the union of the regions it encloses (OpenVDB; cavities and separate parts kept)
 //      and steps 1-12 run again on it; the remaining-defect counts are then the second pass's. The
 //      rebuilt surface is a re-extraction: there the "vertices never move" guarantee below does not
-//      hold. Without the volume layer (a build without OpenVDB) the step reports "not available".
+//      hold. With params.volumetricRebuild the step runs whatever the local steps left (opt-in: it
+//      removes the parts thinner than about two voxels, see clean_params.h). Without the volume
+//      layer (a build without OpenVDB) the step reports "not available".
 // Every action is counted in the returned CleanRawMeshResult (clean_result.h); nothing is removed
 // silently. The remove-and-refill steps (7, 8, 9 and 10) share one budget of params.maxRepairAttempts
 // attempts (clean::CleanRunState, clean_params.h), drawn from in that order, and each of them has its
@@ -302,9 +304,15 @@ private:
     r.removedOrphanedVertices = Finish(m); // step 12
     r.keptComponents = clean::KeptComponents(m);
     r.reportAfter = Quality::Compute(m, qp);
-    if (params.volumetricFallback && !FallbackTrigger(r).empty()) FallBack(m, params, cb, r); // step 13
+    const std::string trigger =
+        params.volumetricRebuild ? std::string(kRebuildRequested) : FallbackTrigger(r);
+    if ((params.volumetricFallback || params.volumetricRebuild) && !trigger.empty())
+      FallBack(m, params, trigger, cb, r); // step 13
     Progress(params, cb, 100, "Clean raw mesh done");
   }
+
+  /// The trigger of step 13 when params.volumetricRebuild asks for it.
+  static constexpr const char* kRebuildRequested = "the request to rebuild (volumetricRebuild)";
 
   /// The defects the local steps left, as a phrase; empty when there is none.
   static std::string FallbackTrigger(const Result& r) {
@@ -325,9 +333,10 @@ private:
 
   /// Step 13 (volumetric_fallback.h): the whole surface rebuilt from the union of what it encloses,
   /// then cleaned again without the fallback; the remaining-defect counts become the second pass's.
-  static void FallBack(MeshType& m, const Params& params, vcg::CallBackPos* cb, Result& r) {
+  static void FallBack(MeshType& m, const Params& params, const std::string& trigger, vcg::CallBackPos* cb,
+                       Result& r) {
     Progress(params, cb, 96, "Rebuilding the surface volumetrically");
-    r.fallback.trigger = FallbackTrigger(r);
+    r.fallback.trigger = trigger;
     const clean::VolumetricFallbackOutcome o = clean::RebuildVolumetrically(m, params.threads);
     r.fallback.available = o.available;
     r.fallback.message = o.message;
@@ -337,7 +346,7 @@ private:
     r.fallback.areaIn = o.areaIn, r.fallback.areaOut = o.areaOut;
     r.fallback.voxelSize = o.voxelSize;
     Params again = params;
-    again.volumetricFallback = false;
+    again.volumetricFallback = again.volumetricRebuild = false;
     Result second;
     Run(m, again, nullptr, second);
     r.nonOrientableComponents = second.nonOrientableComponents;

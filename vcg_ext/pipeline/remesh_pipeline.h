@@ -615,6 +615,7 @@ private:
     run.targets.unfilledHoles = r.unfilledHoles;
     run.targets.largestUnfilledHoleEdges = r.largestUnfilledHoleEdges;
     run.targets.maxHoleEdges = cleanParams.maxHoleEdges;
+    run.targets.rebuiltVolumetrically = r.fallback.rebuilt;
     // A volumetric rebuild's triangles follow its voxels (about half the input's edges): L stays
     // the input's mean edge, so a rebuilt surface is remeshed at the density the input asked for.
     if (r.fallback.rebuilt && !(params.targetEdgeLength > 0) && r.reportBefore.meanEdgeLength > 0)

@@ -36,7 +36,8 @@ struct OutputTargets {
   std::size_t unrepairedTangles = 0; ///< intersecting regions of the input left as they were
   std::size_t unfilledHoles = 0;     ///< holes of the input left open
   std::size_t largestUnfilledHoleEdges = 0;
-  int maxHoleEdges = 0; ///< the cleaning's hole size limit (for the advice)
+  int maxHoleEdges = 0;               ///< the cleaning's hole size limit (for the advice)
+  bool rebuiltVolumetrically = false; ///< the cleaning rebuilt the surface (so thin parts are gone)
 };
 
 struct OutputVerdict {
@@ -92,12 +93,20 @@ struct OutputVerdict {
                                "and TetGen needs a closed surface"));
     }
     if (targets.checkAngles && out.faces > 0) {
+      // The usual cause: parts of the input thinner than L, which only a rebuild removes.
+      const std::string advice = targets.rebuiltVolumetrically
+                                     ? std::string()
+                                     : " (parts of the input thinner than the edge length, such as fins, "
+                                       "tubes and pinched voids, keep such angles; the clean stage's "
+                                       "volumetric rebuild removes them)";
+      const bool maxMissed = out.angleMax > targets.maxAngleDeg; // the advice goes on the last line
       if (out.angleMin < targets.minAngleDeg)
         v.shortOf.push_back(text("smallest angle ", detail::FormatNumber(out.angleMin, 2),
-                                 " deg, below the min angle ", targets.minAngleDeg, " deg"));
-      if (out.angleMax > targets.maxAngleDeg)
+                                 " deg, below the min angle ", targets.minAngleDeg, " deg",
+                                 maxMissed ? std::string() : advice));
+      if (maxMissed)
         v.shortOf.push_back(text("largest angle ", detail::FormatNumber(out.angleMax, 2),
-                                 " deg, above the max angle ", targets.maxAngleDeg, " deg"));
+                                 " deg, above the max angle ", targets.maxAngleDeg, " deg", advice));
     }
     if (targets.checkValence && out.interiorVertices > 0 && out.v567Percent < targets.minV567Percent)
       v.shortOf.push_back(text("V567 ", detail::FormatNumber(out.v567Percent, 2), " %, below ",
