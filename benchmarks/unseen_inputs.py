@@ -29,11 +29,14 @@ import gzip
 import json
 import os
 import shutil
+import shlex
 import sys
 import tempfile
 import types
 
 from run_benchmarks import REPO, Tools, format_peak, run_json, run_measured
+
+DEFAULT_OUT = os.path.join(REPO, "docs", "results", "RESULTS-unseen.md")
 
 MESHLABSERVER = "full pipeline through meshlabserver"
 STRUCTURES = os.path.normpath(os.path.join(REPO, "..", "shared", "data", "structures"))
@@ -171,7 +174,7 @@ def generate(entry, work, timeout):
 def remesh(tools, mesh, output, stages, timeout):
     """Runs the CLI; returns the row of figures (input and output reports, verdict, run)."""
     json_path = output + ".json"
-    argv = [tools.molremesh, "remesh", mesh, output, "--quiet", "--json", json_path]
+    argv = [tools.molremesh, "remesh", mesh, output, "--quiet", "--json", json_path] + tools.remesh_args
     if stages:
         argv += ["--stages", stages]
     r = run_measured(argv, timeout)
@@ -362,9 +365,12 @@ def main():
     p.add_argument("--keep-from", metavar="JSON",
                    help="a previous run's --json: the rows of the inputs not run now (see --only) are taken "
                         "from it, so a change that touches a few inputs is measured on those alone")
+    p.add_argument("--remesh-args", default="",
+                   help="more options for every molremesh remesh run, as one string after an equals sign "
+                        "(--remesh-args=--volumetric-rebuild); give --out and --json elsewhere then")
     p.add_argument("--timeout", type=float, default=3600)
     p.add_argument("--tetgen-timeout", type=float, default=1200)
-    p.add_argument("--out", default=os.path.join(REPO, "docs", "results", "RESULTS-unseen.md"),
+    p.add_argument("--out", default=DEFAULT_OUT,
                    help="Markdown file written with the tables (%(default)s)")
     p.add_argument("--json", help="JSON file written with the raw figures (default: "
                                   "BUILD/benchmarks/RESULTS-unseen.json; raw figures are not committed)")
@@ -377,6 +383,7 @@ def main():
                   "--unseen)" % tool, file=sys.stderr)
     tools = Tools(types.SimpleNamespace(build_dir=args.build_dir, tetgen_timeout=args.tetgen_timeout))
     tools.volumetric_rebuild = os.path.join(os.path.abspath(args.build_dir), "benchmarks", "volumetric_rebuild")
+    tools.remesh_args = shlex.split(args.remesh_args)
     for path in (tools.molremesh, tools.mesh_convert, tools.mesh_distance, tools.volumetric_rebuild):
         if not os.access(path, os.X_OK):
             sys.exit("unseen_inputs: build the targets molremesh, mesh_convert, mesh_distance and "
@@ -468,7 +475,7 @@ def write_results(args, results, tables, modes, work):
             "Made by `/usr/bin/python3 benchmarks/unseen_inputs.py --build-dir build%s` on %s (2 shared cores)%s. "
             "Inputs: the shared structures through Debian's EDTSurf and PyMOL and marching cubes of a "
             "Gaussian density (settings in the script); each run is one process of the CLI with its "
-            "defaults (`molremesh remesh IN OUT`). *Defects in* are counted on the input welded at equal "
+            "defaults%s. *Defects in* are counted on the input welded at equal "
             "coordinates (*SI* includes pairs of faces sharing a vertex that also meet elsewhere; "
             "*inward*: negative enclosed volume). *out* is the CLI's verdict: valid = closed, 2-manifold, "
             "consistently oriented outward, no degenerate face, no self-intersecting pair. θ, obtuse %%, "
@@ -484,7 +491,12 @@ def write_results(args, results, tables, modes, work):
             "Debian builds it aborts on opening any OBJ file (an assertion in vcglib's OBJ importer, "
             "Debian bug #1054006), so the OBJ inputs reach it as PLY files with the same vertices and "
             "faces (`mesh_convert`, not timed)."
-            % (" --meshlabserver" if args.meshlabserver else "", datetime.date.today().isoformat(), kept_note(args)),
+            % ((" --meshlabserver" if args.meshlabserver else "")
+               + (" --remesh-args=\"%s\"" % args.remesh_args if args.remesh_args else "")
+               + (" --only " + " ".join(args.only) if args.only and not args.keep_from else "")
+               + (" --out " + os.path.relpath(args.out, REPO) if args.out != DEFAULT_OUT else ""),
+               datetime.date.today().isoformat(), kept_note(args),
+               " and `%s`" % args.remesh_args if args.remesh_args else " (`molremesh remesh IN OUT`)"),
             ""]
     text += ["## Goals", ""] + goals(results) + [""]
     for mode, _ in modes:
