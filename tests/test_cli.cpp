@@ -327,6 +327,36 @@ TEST(Cli, VolumetricRebuildRemovesAPartThinnerThanTheEdges) {
   std::filesystem::remove_all(dir);
 }
 
+// One non-planar heptagon over seven vertices of an icosahedron: its fan of five triangles overlaps
+// itself, which no local refill repairs, and it encloses no volume, so the volumetric rebuild has
+// nothing to build. No valid surface can come of it: one error line, exit status 2, nothing written
+// (only with the fallback turned off is the invalid remesh written, exit status 3).
+TEST(Cli, ASelfOverlappingPolygonThatEnclosesNothingIsRefusedInOneLine) {
+  const auto dir = TempDir("cli_enclosing_nothing");
+  const std::string input = (dir / "heptagon.off").string(), out = (dir / "out.ply").string();
+  const double a = 5.257311121191336, b = 8.5065080835204;
+  std::ofstream(input) << "OFF\n7 1 0\n"
+                       << -a << " " << b << " 0\n"
+                       << a << " " << b << " 0\n"
+                       << -a << " " << -b << " 0\n"
+                       << a << " " << -b << " 0\n"
+                       << "0 " << -a << " " << b << "\n"
+                       << "0 " << a << " " << b << "\n"
+                       << "0 " << -a << " " << -b << "\n"
+                       << "7 0 1 2 3 4 5 6\n";
+  const CommandResult r = Cli("remesh --quiet " + Quote(input) + " " + Quote(out));
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_EQ(r.err.rfind("molremesh: error: ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("encloses no volume"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const CommandResult kept =
+      Cli("remesh --quiet --no-volumetric-fallback " + Quote(input) + " " + Quote(out));
+  EXPECT_EQ(kept.exitCode, 3) << kept.err;
+  EXPECT_TRUE(std::filesystem::exists(out));
+  std::filesystem::remove_all(dir);
+}
+
 // A hole longer than --max-hole-edges stays open: the output is valid (exit status 0) but not
 // closed, and a warning says so and which limit kept the hole.
 TEST(Cli, OpenOutputWarnsWhichLimitKeptTheHole) {

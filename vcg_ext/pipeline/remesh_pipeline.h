@@ -600,6 +600,21 @@ private:
                  std::to_string(r.tiny);
   }
 
+  /// Why the cleaned mesh cannot be remeshed into a valid surface: the local repairs left it invalid
+  /// (a tangle, a non-orientable or non-manifold part, a degenerate face) and the volumetric rebuild
+  /// was tried and refused (the input encloses no volume, or the memory limit). Empty otherwise; an
+  /// open but valid mesh is remeshed (its holes are named in the output verdict), and so is an invalid
+  /// one when the fallback was off or is not built in (the verdict then says it is invalid).
+  static std::string LeftInvalid(const typename CleanRawMesh<MeshType>::Result& r) {
+    const QualityReport& after = r.reportAfter;
+    const std::size_t invalid = r.unrepairedTangles + r.nonOrientableComponents + r.remainingDegenerateFaces +
+                                after.nonManifoldEdges + after.nonManifoldVertices + after.degenerateFaces +
+                                (after.selfIntersectionsComputed ? after.selfIntersectingFaces : 0);
+    if (invalid == 0 || r.fallback.trigger.empty() || !r.fallback.available || r.fallback.rebuilt) return {};
+    return "the input cannot be made a valid surface: the repairs left " + r.fallback.trigger +
+           ", and the volumetric rebuild was refused (" + r.fallback.message + ")";
+  }
+
   static std::string RunClean(RunState& run, bool last, std::string& summary,
                               std::optional<QualityReport>& cleanReport) {
     const Params& params = run.params;
@@ -610,6 +625,7 @@ private:
     if (!params.intersectionsEachStage && !last) cleanParams.measureSelfIntersections = false;
     const auto r = CleanRawMesh<MeshType>::Do(run.m, cleanParams);
     if (!r.ok) return r.message;
+    if (std::string why = LeftInvalid(r); !why.empty()) return why;
     summary = CleanRawMeshSummary(r);
     run.targets.unrepairedTangles = r.unrepairedTangles;
     run.targets.unfilledHoles = r.unfilledHoles;
