@@ -90,6 +90,17 @@ struct CleanRawMeshResult {
   /// count: pairs sharing no vertex that meet, or sharing one vertex and meeting elsewhere). The
   /// before/after figures of the summary (vertices, faces, area, volume, validity) are read from here.
   QualityReport reportBefore, reportAfter;
+
+  /// Defects left that make the result invalid, not merely open: unrepaired tangles (non-orientable
+  /// components among them), non-manifold elements, degenerate faces, self-intersecting faces (when
+  /// measured).
+  std::size_t InvalidDefectsLeft() const {
+    return unrepairedTangles + reportAfter.nonManifoldEdges + reportAfter.nonManifoldVertices +
+           reportAfter.degenerateFaces +
+           (reportAfter.selfIntersectionsComputed ? reportAfter.selfIntersectingFaces : 0);
+  }
+  /// Step 13 was triggered and could run (the volume layer is built in) but refused the rebuild.
+  bool RebuildRefused() const { return !fallback.trigger.empty() && fallback.available && !fallback.rebuilt; }
 };
 
 } // namespace molremesh

@@ -606,11 +606,7 @@ private:
   /// open but valid mesh is remeshed (its holes are named in the output verdict), and so is an invalid
   /// one when the fallback was off or is not built in (the verdict then says it is invalid).
   static std::string LeftInvalid(const typename CleanRawMesh<MeshType>::Result& r) {
-    const QualityReport& after = r.reportAfter;
-    const std::size_t invalid = r.unrepairedTangles + r.nonOrientableComponents + r.remainingDegenerateFaces +
-                                after.nonManifoldEdges + after.nonManifoldVertices + after.degenerateFaces +
-                                (after.selfIntersectionsComputed ? after.selfIntersectingFaces : 0);
-    if (invalid == 0 || r.fallback.trigger.empty() || !r.fallback.available || r.fallback.rebuilt) return {};
+    if (r.InvalidDefectsLeft() == 0 || !r.RebuildRefused()) return {};
     return "the input cannot be made a valid surface: the repairs left " + r.fallback.trigger +
            ", and the volumetric rebuild was refused (" + r.fallback.message + ")";
   }
