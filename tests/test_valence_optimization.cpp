@@ -15,7 +15,9 @@
 #include <vcg_ext/pipeline/remesh_pipeline.h>
 #include <vcg_ext/stages/valence_optimization.h>
 
+#include <functional>
 #include <map>
+#include <utility>
 
 #include "remeshing_test_meshes.h"
 #include "test_helpers.h"
@@ -346,10 +348,12 @@ INSTANTIATE_TEST_SUITE_P(Meshes, ValenceOnSharedMesh,
 
 namespace {
 
-/// Remeshes the shared mesh `name` at L up to polish, then runs polish from that mesh with and
-/// without the refills on the reference; checks that they leave no more irregular vertices and
-/// keep every invariant, and returns polish's result with them.
-VO::Result PolishWithAndWithoutRefillsOnReference(const std::string& name, double L) {
+/// Remeshes the shared mesh `name` at L up to polish, then runs polish from that mesh with a step
+/// off and on (set(params, on) switches it); checks that the step leaves no more irregular
+/// vertices and keeps every invariant, and returns polish's results without and with it.
+std::pair<VO::Result, VO::Result>
+PolishWithAndWithoutStep(const std::string& name, double L,
+                         const std::function<void(VO::Params&, bool)>& set) {
   using Pipeline = RemeshPipeline<MeshD>;
   MeshD input, cleaned, m;
   std::string error;
@@ -367,13 +371,13 @@ VO::Result PolishWithAndWithoutRefillsOnReference(const std::string& name, doubl
   ReferenceSurface<MeshD> reference;
   EXPECT_TRUE(reference.Build(cleaned, ReferenceSurface<MeshD>::Params(), &error)) << error;
 
-  auto polish = [&](bool onReference, MeshD& out, VO::Result& r) {
+  auto polish = [&](bool enabled, MeshD& out, VO::Result& r) {
     CopyTriangles(out, m);
     vcg::tri::UpdateTopology<MeshD>::FaceFace(out);
     vcg::tri::UpdateTopology<MeshD>::VertexFace(out);
     VO::Params p = params.polish;
     p.targetEdgeLength = params.targetEdgeLength;
-    p.refillOnReference = onReference;
+    set(p, enabled);
     r = VO::Do(out, reference, p);
     EXPECT_TRUE(r.ok) << r.message;
   };
@@ -381,13 +385,21 @@ VO::Result PolishWithAndWithoutRefillsOnReference(const std::string& name, doubl
   polish(false, without, off);
   polish(true, with, on);
   EXPECT_LE(on.after.irregular, off.after.irregular) << ValenceOptimizationSummary(on);
+  EXPECT_LE(on.largeAnglesAfter, on.largeAnglesBefore);
+  EXPECT_LE(on.smallAnglesAfter, on.smallAnglesBefore);
   const QualityReport before = Quality(m), after = Quality(with);
   EXPECT_GE(after.angleMin, std::min(before.angleMin, 30.0) - 1e-9);
   EXPECT_LE(after.angleMax, std::max(before.angleMax, 90.0) + 1e-9);
   ExpectTwoManifoldWithoutDegenerateFaces(after);
   ExpectNoSelfIntersection(after);
   ExpectComponentsClosedWithTheirGenus(before, after);
-  return on;
+  return {off, on};
+}
+
+/// Polish's refills on the reference (step 4) on and off, without step 5 after them.
+void SetRefillsOnReference(VO::Params& p, bool on) {
+  p.refillOnReference = on;
+  p.relaxedFlips = false;
 }
 
 } // namespace
@@ -396,7 +408,8 @@ TEST(ValenceOptimization, StripRefillsInPolishLeaveNoMoreIrregularVertices) {
   // 1UBQ's EDTSurf surface remeshed at L = 0.9 A: before polish, a few vertices of valence 3 or 4
   // sit at pits no star refill mends; strips give them one more edge.
   MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
-  const VO::Result on = PolishWithAndWithoutRefillsOnReference("ubiquitin_1UBQ_edtsurf_mc.ply", 0.9);
+  const VO::Result on =
+      PolishWithAndWithoutStep("ubiquitin_1UBQ_edtsurf_mc.ply", 0.9, SetRefillsOnReference).second;
   EXPECT_GT(on.strips, 0u) << ValenceOptimizationSummary(on);
 }
 
@@ -404,6 +417,18 @@ TEST(ValenceOptimization, StarRefillsOnTheReferenceLeaveNoMoreIrregularVertices)
   // 1MAH's PyMOL surface remeshed at L = 0.9 A: at saddles between atom spheres a few vertices of
   // valence 8 or more keep their star, as the planar refill of it is refused once projected.
   MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
-  const VO::Result on = PolishWithAndWithoutRefillsOnReference("ache_1MAH_pymol_ses.ply", 0.9);
+  const VO::Result on =
+      PolishWithAndWithoutStep("ache_1MAH_pymol_ses.ply", 0.9, SetRefillsOnReference).second;
   EXPECT_GT(on.starsOnReference, 0u) << ValenceOptimizationSummary(on);
+}
+
+TEST(ValenceOptimization, RelaxedFlipsInPolishLeaveFewerIrregularVertices) {
+  // 1MAH's PyMOL surface remeshed at L = 0.9 A: after steps 1 to 4 some vertices of valence 4 or
+  // 8 keep it because every flip that mends them leaves a face outside [30, 90] degrees; with
+  // the vertices around the flip re-placed on the reference, some of them go through.
+  MOLREMESH_SKIP_WITHOUT_SHARED_DATA();
+  const auto [off, on] = PolishWithAndWithoutStep(
+      "ache_1MAH_pymol_ses.ply", 0.9, [](VO::Params& p, bool enabled) { p.relaxedFlips = enabled; });
+  EXPECT_GT(on.relaxedFlips, 0u) << ValenceOptimizationSummary(on);
+  EXPECT_LT(on.after.irregular, off.after.irregular) << ValenceOptimizationSummary(on);
 }

@@ -237,6 +237,7 @@ public:
     typename ValenceOptimization<MeshType>::Params p;
     p.maxAngleDeg = 90.0; // the last obtuse threshold: no edit may add an obtuse face
     p.refillOnReference = true;
+    p.relaxedFlips = true;
     return p;
   }
 

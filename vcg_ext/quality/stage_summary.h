@@ -165,6 +165,7 @@ std::string ValenceOptimizationSummary(const Result& r) {
     << " (grown in phase 2: " << r.phaseTwoHoles << "; on the reference: " << r.starsOnReference << " stars, "
     << r.strips << " strips"
     << "), left as they were: " << r.holesKept << "\n"
+    << "flips with their neighbourhood relaxed: " << r.relaxedFlips << "\n"
     << "rounds: " << r.rounds << "\n";
   return s.str();
 }
