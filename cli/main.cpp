@@ -216,6 +216,7 @@ struct RemeshOptions {
   int minComponentFaces = molremesh::CleanRawMesh<MeshD>::Params().minComponentFaces;
   bool noVolumetricFallback = !molremesh::CleanRawMesh<MeshD>::Params().volumetricFallback;
   bool volumetricRebuild = molremesh::CleanRawMesh<MeshD>::Params().volumetricRebuild;
+  bool noRebuildRetry = !molremesh::RemeshPipeline<MeshD>::Params().rebuildWhenAnglesMiss;
   std::string nestedComponents = "auto";
   double memoryLimitMB = 0; // 0: the memory available when the run starts; < 0: no check
   std::string jsonPath;
@@ -310,6 +311,7 @@ int RunRemesh(const std::string& input, const std::string& output, const RemeshO
   params.clean.minComponentFaces = options.minComponentFaces;
   params.clean.volumetricFallback = !options.noVolumetricFallback;
   params.clean.volumetricRebuild = options.volumetricRebuild;
+  params.rebuildWhenAnglesMiss = !options.noRebuildRetry;
   params.clean.nestedComponents = options.nestedComponents == "union"    ? molremesh::NestedComponents::Union
                                   : options.nestedComponents == "parity" ? molremesh::NestedComponents::Parity
                                                                          : molremesh::NestedComponents::Auto;
@@ -483,6 +485,11 @@ void AddCleanOptions(CLI::App* remesh, CommandLine& c) {
                    "defects; removes the parts thinner than about the mean edge (fins, tubes, necks, "
                    "pinched voids) that no remesh keeps within the angle bounds, and seals crevices as "
                    "narrow");
+  remesh->add_flag("--no-rebuild-retry", c.remesh.noRebuildRetry,
+                   "Keep the remesh even when an angle is outside [min angle, 90] (by default the input is "
+                   "then rebuilt as by --volumetric-rebuild and remeshed again at the same edge length, "
+                   "and that output is kept when it is valid and its angles are nearer the bounds; a note "
+                   "gives both runs' figures)");
   remesh
       ->add_option(
           "--nested-components", c.remesh.nestedComponents,

@@ -151,6 +151,9 @@ inline nlohmann::json StageJson(const OutputRequest& request, const PipelineResu
                            {"after", ToJson(stage.after)}});
   j["output"] = ToJson(OutputReport(result));
   j["verdict"] = VerdictJson(result.verdict);
+  j["rebuild_retry"] = {{"tried", result.rebuildRetry.tried},
+                        {"kept", result.rebuildRetry.kept},
+                        {"message", result.rebuildRetry.message}};
   for (const auto& [key, value] : extra.items()) j[key] = value;
   return j;
 }
@@ -185,6 +188,9 @@ inline int SaveRemeshed(MeshD& mesh, const OutputRequest& request, const Pipelin
   if (!request.jsonPath.empty())
     WriteJsonFile(StageJson(request, result, extraJson), request.jsonPath, request.output);
   if (!request.quiet) std::cerr << SummaryLine(request, result, summaryWhat) << '\n';
+  // At every level, like the verdict: a kept retry changes the area by a few percent.
+  if (result.rebuildRetry.tried)
+    std::cerr << "molremesh: note: " << request.output << ": " << result.rebuildRetry.message << '\n';
   return VerdictStatus(result.verdict, request.output);
 }
 

@@ -42,6 +42,8 @@ void LogPipelineRun(const PipelineResult& result, const RunLog& log) {
   log.info(StageTimesLine(result));
   // The layer takes the result either way (it is better than the input), but never in silence
   // when it misses a promise: the warnings say what and why.
+  // A kept retry changes the area by a few percent: said as a warning, not among the info lines.
+  if (result.rebuildRetry.tried) log.warning("Note: " + result.rebuildRetry.message);
   RunLog::Lines(log.warning, result.verdict.Lines("Warning: the result is "));
 }
 

@@ -1,5 +1,6 @@
 // The clean stage's volumetric fallback (vcg_ext/clean/volumetric_fallback.h): a surface the local
-// steps leave broken is rebuilt from the union of what it encloses, cavities kept, and cleaned again.
+// steps leave broken is rebuilt from the union of what it encloses, cavities kept, and cleaned again;
+// and the pipeline's second run on the rebuilt surface when the first one's angles miss their bounds.
 // Linked with the volume layer (OpenVDB), as the CLI is.
 
 #include <gtest/gtest.h>
@@ -7,6 +8,7 @@
 #include <vcg_ext_instances/extern_mesh_d_volume.h>
 #include <vcg_ext/clean/clean_raw_mesh.h>
 #include <vcg_ext/core/mesh_types.h>
+#include <vcg_ext/pipeline/remesh_pipeline.h>
 #include <vcg_ext/quality/stage_summary.h>
 
 #include <vcg/complex/algorithms/stat.h>
@@ -22,6 +24,7 @@ namespace {
 using molremesh::MeshD;
 using molremesh::Point;
 using CleanStage = molremesh::CleanRawMesh<MeshD>;
+using molremesh::QualityReport;
 
 /// Two interpenetrating balls of radius 10, 12 apart, the first holding a cavity of radius 2
 /// (faces reversed: normals into the void), as one mesh.
@@ -118,4 +121,61 @@ TEST(CleanFallback, RequestedRebuildOfAValidSurfaceDropsItsPartsThinnerThanTwoVo
   for (const auto& v : m.vert)
     if (!v.IsD()) box.Add(v.cP());
   EXPECT_LT(box.max[0], 10.5); // nothing left where the slab was
+}
+
+TEST(RebuildRetry, AnglesOutOfBoundsAtAThinSlabAreRemeshedAgainWithoutIt) {
+  // The ball and slab above through the whole pipeline: no remesh at the ball's edge length keeps
+  // the slab's rim within [30, 90] degrees, so the pipeline runs again on the rebuilt surface
+  // (the run --volumetric-rebuild asks for) and keeps it; the ball alone is remeshed once.
+  using Pipeline = molremesh::RemeshPipeline<MeshD>;
+  auto ballAndSlab = [](MeshD& m) {
+    MeshD slab;
+    molremesh::test::Icosphere(m, 4, Point(0, 0, 0), Point(10, 10, 10));
+    molremesh::test::Icosphere(slab, 3, Point(25, 0, 0), Point(3, 3, 0.1));
+    vcg::tri::Append<MeshD, MeshD>::Mesh(m, slab);
+    vcg::tri::UpdateTopology<MeshD>::FaceFace(m);
+    vcg::tri::UpdateTopology<MeshD>::VertexFace(m);
+  };
+  auto run = [&](const Pipeline::Params& params, MeshD& m) {
+    ballAndSlab(m);
+    const molremesh::PipelineResult r = Pipeline::Do(m, params);
+    EXPECT_TRUE(r.ok) << r.message;
+    EXPECT_TRUE(r.verdict.Valid());
+    return r;
+  };
+  Pipeline::Params once;
+  once.rebuildWhenAnglesMiss = false;
+  MeshD first, retried, rebuilt;
+  const auto a = run(once, first);
+  const QualityReport& outA = a.stages.back().after;
+  ASSERT_TRUE(outA.angleMin < 30.0 || outA.angleMax > 90.0) << outA.angleMin << " " << outA.angleMax;
+  EXPECT_FALSE(a.rebuildRetry.tried);
+  EXPECT_EQ(outA.components, 2u);
+
+  const auto b = run(Pipeline::Params(), retried);
+  EXPECT_TRUE(b.rebuildRetry.tried);
+  EXPECT_TRUE(b.rebuildRetry.kept) << b.rebuildRetry.message;
+  EXPECT_TRUE(b.rebuiltVolumetrically);
+  const QualityReport& outB = b.stages.back().after;
+  EXPECT_EQ(outB.components, 1u);
+  EXPECT_GE(outB.angleMin, 30.0 - 1e-9);
+  EXPECT_LE(outB.angleMax, 90.0 + 1e-9);
+  EXPECT_EQ(outB.boundaryEdges, 0u);
+  EXPECT_NE(b.rebuildRetry.message.find("kept"), std::string::npos);
+
+  Pipeline::Params rebuild;
+  rebuild.clean.volumetricRebuild = true;
+  const auto c = run(rebuild, rebuilt);
+  EXPECT_FALSE(c.rebuildRetry.tried); // asked for already
+  ASSERT_EQ(retried.vert.size(), rebuilt.vert.size());
+  ASSERT_EQ(retried.face.size(), rebuilt.face.size());
+  for (std::size_t i = 0; i < retried.vert.size(); ++i) ASSERT_EQ(retried.vert[i].cP(), rebuilt.vert[i].cP());
+
+  MeshD ball;
+  molremesh::test::Icosphere(ball, 4, Point(0, 0, 0), Point(10, 10, 10));
+  vcg::tri::UpdateTopology<MeshD>::FaceFace(ball);
+  vcg::tri::UpdateTopology<MeshD>::VertexFace(ball);
+  const molremesh::PipelineResult d = Pipeline::Do(ball, Pipeline::Params());
+  EXPECT_TRUE(d.ok) << d.message;
+  EXPECT_FALSE(d.rebuildRetry.tried);
 }

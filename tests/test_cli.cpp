@@ -327,6 +327,39 @@ TEST(Cli, VolumetricRebuildRemovesAPartThinnerThanTheEdges) {
   std::filesystem::remove_all(dir);
 }
 
+// By default a remesh whose angles miss [30, 90] degrees is made again from the rebuilt surface:
+// the slab's rim keeps such angles, so the output is the ball alone and a note says so with both
+// runs' figures; --no-rebuild-retry keeps the first remesh.
+TEST(Cli, AnglesOutOfBoundsAreRemeshedAgainFromTheRebuiltSurfaceUnlessTurnedOff) {
+  const auto dir = TempDir("cli_rebuild_retry");
+  molremesh::MeshD ball, slab;
+  molremesh::test::Icosphere(ball, 3, molremesh::test::Point(0, 0, 0), molremesh::test::Point(5, 5, 5));
+  molremesh::test::Icosphere(slab, 2, molremesh::test::Point(12, 0, 0), molremesh::test::Point(2, 2, 0.05));
+  molremesh::test::AppendMesh(ball, slab);
+  const std::string input = (dir / "ball_and_slab.off").string(), json = (dir / "out.json").string();
+  std::string error;
+  ASSERT_TRUE(molremesh::SaveMesh(ball, input, error)) << error;
+  auto remesh = [&](const std::string& flag) {
+    const CommandResult r = Cli("remesh --quiet " + flag + Quote(input) + " " +
+                                Quote((dir / "out.ply").string()) + " --json " + Quote(json));
+    EXPECT_EQ(r.exitCode, 0) << r.err;
+    return std::make_pair(r, ReadJson(json));
+  };
+  const auto [retried, j] = remesh("");
+  EXPECT_TRUE(j["rebuild_retry"]["kept"].get<bool>()) << retried.err;
+  EXPECT_EQ(j["output"]["components"].get<int>(), 1);
+  EXPECT_GE(j["output"]["angle_min_deg"].get<double>(), 30.0 - 1e-9);
+  EXPECT_LE(j["output"]["angle_max_deg"].get<double>(), 90.0 + 1e-9);
+  EXPECT_NE(retried.err.find("note: "), std::string::npos) << retried.err;
+  EXPECT_NE(retried.err.find("rebuilding the surface from a volume: kept"), std::string::npos) << retried.err;
+
+  const auto [once, k] = remesh("--no-rebuild-retry ");
+  EXPECT_FALSE(k["rebuild_retry"]["tried"].get<bool>());
+  EXPECT_EQ(k["output"]["components"].get<int>(), 2);
+  EXPECT_EQ(once.err.find("note: "), std::string::npos) << once.err;
+  std::filesystem::remove_all(dir);
+}
+
 // One non-planar heptagon over seven vertices of an icosahedron: its fan of five triangles overlaps
 // itself, which no local refill repairs, and it encloses no volume, so the volumetric rebuild has
 // nothing to build. No valid surface can come of it: one error line, exit status 2, nothing written

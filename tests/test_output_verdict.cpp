@@ -100,7 +100,7 @@ TEST(OutputVerdict, AngleAndValenceTargetsOnlyWhenTheirStagesRan) {
   EXPECT_TRUE(Mentions(v.shortOf, "V567 99.10 %"));
 }
 
-TEST(OutputVerdict, MissedAnglesNameTheVolumetricRebuildOnceUnlessTheSurfaceWasRebuilt) {
+TEST(OutputVerdict, MissedAnglesNameTheVolumetricRebuildOnceUnlessItWasMadeOrTried) {
   QualityReport r = GoodOutput();
   r.angleMin = 13.3;
   r.angleMax = 138.4;
@@ -114,6 +114,9 @@ TEST(OutputVerdict, MissedAnglesNameTheVolumetricRebuildOnceUnlessTheSurfaceWasR
   EXPECT_EQ(advised(OutputVerdict::Of(r, targets)), 1u); // on the last of the two angle lines
   r.angleMax = 88.0;
   EXPECT_EQ(advised(OutputVerdict::Of(r, targets)), 1u);
+  targets.rebuildTried = true; // the pipeline ran on the rebuilt surface and did not keep it
+  EXPECT_EQ(advised(OutputVerdict::Of(r, targets)), 0u);
+  targets.rebuildTried = false;
   targets.rebuiltVolumetrically = true; // nothing thin is left to remove: no advice
   EXPECT_EQ(advised(OutputVerdict::Of(r, targets)), 0u);
   EXPECT_FALSE(OutputVerdict::Of(r, targets).AllMet());

@@ -20,6 +20,13 @@
 namespace molremesh {
 namespace clean {
 
+/// Whether this translation unit has the volume layer (RebuildVolumetrically can rebuild).
+#if defined(MOLREMESH_HAVE_OPENVDB)
+inline constexpr bool kVolumetricRebuildAvailable = true;
+#else
+inline constexpr bool kVolumetricRebuildAvailable = false;
+#endif
+
 /// What RebuildVolumetrically did.
 struct VolumetricFallbackOutcome {
   bool available = false; ///< built with the volume layer (OpenVDB)

@@ -136,6 +136,14 @@ struct PipelineResult {
   /// What the output misses of the promises of the stages that ran (empty when all are met, and
   /// when the stages were not measured); see OutputVerdict.
   OutputVerdict verdict;
+  OutputTargets targets;              ///< what the verdict checked
+  bool rebuiltVolumetrically = false; ///< the clean stage rebuilt the surface from a volume
+  /// The second run after a first whose angles missed their bounds (Params::rebuildWhenAnglesMiss).
+  struct RebuildRetry {
+    bool tried = false;  ///< a second run was made
+    bool kept = false;   ///< its output is m (else m is the first run's)
+    std::string message; ///< one line: why, and what the second run gave (empty when not tried)
+  } rebuildRetry;
 };
 
 template <class MeshType>
@@ -165,6 +173,15 @@ public:
     /// writes nothing) turns it off; m then holds the last completed stage's result (every stage
     /// leaves the mesh as it was when it fails).
     bool restoreOnFailure = true;
+    /// When the output has an angle outside [small.minAngleDeg, polish.maxAngleDeg] and the clean
+    /// stage did not rebuild the surface, run the pipeline again from the input with the clean
+    /// stage's volumetric rebuild (CleanRawMesh::Params::volumetricRebuild; L as in that run), and keep
+    /// that output when it is valid and its angles are nearer the bounds. The usual cause of such
+    /// angles is a part of the input thinner than L (a fin, a tube, a pinched void, a crevice
+    /// between atom spheres), which the rebuild removes or seals: the area changes by a few percent
+    /// (PipelineResult::rebuildRetry says by how much). Needs the clean, small and polish stages,
+    /// measureEachStage, the volumetric fallback on and OpenVDB; keeps a copy of the input.
+    bool rebuildWhenAnglesMiss = true;
     /// A run whose estimated peak memory (MemoryBudget::Estimate: the input's size and the face
     /// count the target edge length implies) exceeds this many MB is refused before any stage,
     /// the mesh untouched; 0 = the memory available when the run starts; < 0 = no check.
@@ -277,11 +294,46 @@ public:
     return all;
   }
 
-  /// Runs the stages on m. Requires FF and VF adjacency (enabled; they are recomputed).
-  /// log, when given, receives one line per event (stage start and end) for progress output.
+  /// Runs the stages on m, and once more on the input rebuilt from a volume when the output's
+  /// angles miss their bounds (Params::rebuildWhenAnglesMiss). Requires FF and VF adjacency
+  /// (enabled; they are recomputed). log, when given, receives one line per event (stage start and
+  /// end) for progress output.
   static PipelineResult Do(MeshType& m, const Params& params,
                            const std::function<void(const std::string&)>& log = {},
                            vcg::CallBackPos* cb = nullptr) {
+    if (!MayRetryWithRebuild(params)) return DoOnce(m, params, log, cb);
+    MeshType input;
+    vcg::tri::Append<MeshType, MeshType>::MeshCopy(input, m);
+    PipelineResult first = DoOnce(m, params, log, cb);
+    if (!first.ok || first.rebuiltVolumetrically || AngleExcess(first, params) <= 0) return first;
+    Params again = params;
+    again.clean.volumetricRebuild = true; // the run --volumetric-rebuild asks for, L included
+    const std::string why = "the angles, " + AngleSpan(first) + ", are outside [" +
+                            detail::FormatNumber(params.small.minAngleDeg, 2) + ", " +
+                            detail::FormatNumber(params.polish.maxAngleDeg, 2) + "] deg";
+    if (log) log(why + ": the surface is rebuilt from a volume and remeshed again");
+    PipelineResult second = DoOnce(input, again, log, cb);
+    const bool keep = second.ok && second.rebuiltVolumetrically && second.verdict.Valid() &&
+                      AngleExcess(second, again) < AngleExcess(first, params);
+    PipelineResult& kept = keep ? second : first;
+    kept.rebuildRetry.tried = true;
+    kept.rebuildRetry.kept = keep;
+    kept.rebuildRetry.message = RetryMessage(why, first, second, keep);
+    kept.seconds = first.seconds + second.seconds;
+    if (keep) {
+      vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, input);
+      UpdateAdjacency(m);
+    } else { // the verdict's advice to rebuild was followed
+      first.targets.rebuildTried = true;
+      first.verdict = OutputVerdict::Of(first.stages.back().after, first.targets);
+    }
+    if (log) log(kept.rebuildRetry.message);
+    return std::move(kept);
+  }
+
+private:
+  static PipelineResult DoOnce(MeshType& m, const Params& params,
+                               const std::function<void(const std::string&)>& log, vcg::CallBackPos* cb) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     RunState run(m, params, log);
@@ -319,13 +371,55 @@ public:
     run.ResolveReports();
     run.LeaveFrame();
     UpdateAdjacency(m);
-    if (params.measureEachStage && !run.result.stages.empty()) run.result.verdict = Verdict(run);
+    if (params.measureEachStage && !run.result.stages.empty()) {
+      run.result.targets = Targets(run);
+      run.result.verdict = OutputVerdict::Of(run.result.stages.back().after, run.result.targets);
+    }
+    run.result.rebuiltVolumetrically = run.targets.rebuiltVolumetrically;
     run.result.seconds = std::chrono::duration<double>(Clock::now() - start).count();
     if (cb) cb(100, "done");
     return std::move(run.result);
   }
 
-private:
+  /// Whether Do may run a second time (Params::rebuildWhenAnglesMiss).
+  static bool MayRetryWithRebuild(const Params& params) {
+    return clean::kVolumetricRebuildAvailable && params.rebuildWhenAnglesMiss &&
+           !params.clean.volumetricRebuild && params.clean.volumetricFallback && params.measureEachStage &&
+           Runs(params, PipelineStage::Clean) && Runs(params, PipelineStage::Small) &&
+           Runs(params, PipelineStage::Polish);
+  }
+  /// How far (degrees) the output's angles reach beyond [small.minAngleDeg, polish.maxAngleDeg].
+  static double AngleExcess(const PipelineResult& r, const Params& params) {
+    if (r.stages.empty()) return 0;
+    const QualityReport& out = r.stages.back().after;
+    return std::max({0.0, params.small.minAngleDeg - out.angleMin, out.angleMax - params.polish.maxAngleDeg});
+  }
+  static std::string AngleSpan(const PipelineResult& r) {
+    const QualityReport& out = r.stages.back().after;
+    return detail::FormatNumber(out.angleMin, 2) + "-" + detail::FormatNumber(out.angleMax, 2) + " deg";
+  }
+  /// The retry in one line: why, and the second run's figures against the first's.
+  static std::string RetryMessage(const std::string& why, const PipelineResult& first,
+                                  const PipelineResult& second, bool kept) {
+    const std::string head = why + "; remeshed again after rebuilding the surface from a volume: ";
+    if (!second.ok) return head + "not kept, the second run failed (" + second.message + ")";
+    if (!second.rebuiltVolumetrically)
+      return head + "not kept, the rebuild was refused (see the clean stage)";
+    const QualityReport &in = first.input, &a = first.stages.back().after, &b = second.stages.back().after;
+    auto change = [](double from, double to) {
+      return (to >= from ? "+" : "") + detail::FormatNumber(from != 0 ? 100.0 * (to - from) / from : 0.0, 2) +
+             " %";
+    };
+    return head + (kept ? "kept" : "not kept") + ", angles " + AngleSpan(second) +
+           (second.verdict.Valid() ? "" : ", not valid") + ", V567 " +
+           detail::FormatNumber(b.v567Percent, 2) + " % (first: " + detail::FormatNumber(a.v567Percent, 2) +
+           " %), area " + change(in.area, b.area) + " of the input's (first: " + change(in.area, a.area) +
+           "), volume " + change(in.volume, b.volume) + " (first: " + change(in.volume, a.volume) +
+           "), components " + std::to_string(b.components) + " (first: " + std::to_string(a.components) +
+           "); parts thinner than about the edge length are "
+           "removed and crevices as narrow sealed";
+  }
+
   /// A quality report being measured (or measured) on its own thread.
   struct PendingReport {
     std::shared_future<QualityReport> future;
@@ -829,14 +923,14 @@ private:
   }
 
   /// What the output misses of the promises of the stages that ran (the last stage's report).
-  static OutputVerdict Verdict(const RunState& run) {
+  static OutputTargets Targets(const RunState& run) {
     const Params& params = run.params;
     OutputTargets targets = run.targets;
     targets.checkAngles = Runs(params, PipelineStage::Small);
     targets.minAngleDeg = params.small.minAngleDeg;
     targets.maxAngleDeg = params.small.maxAngleDeg;
     targets.checkValence = Runs(params, PipelineStage::Valence);
-    return OutputVerdict::Of(run.result.stages.back().after, targets);
+    return targets;
   }
   static typename MeshQuality<MeshType>::Params NoIntersections(int threads) {
     typename MeshQuality<MeshType>::Params p;

@@ -38,6 +38,7 @@ struct OutputTargets {
   std::size_t largestUnfilledHoleEdges = 0;
   int maxHoleEdges = 0;               ///< the cleaning's hole size limit (for the advice)
   bool rebuiltVolumetrically = false; ///< the cleaning rebuilt the surface (so thin parts are gone)
+  bool rebuildTried = false;          ///< a run on the rebuilt surface was made and not kept
 };
 
 struct OutputVerdict {
@@ -94,7 +95,7 @@ struct OutputVerdict {
     }
     if (targets.checkAngles && out.faces > 0) {
       // The usual cause: parts of the input thinner than L, which only a rebuild removes.
-      const std::string advice = targets.rebuiltVolumetrically
+      const std::string advice = targets.rebuiltVolumetrically || targets.rebuildTried
                                      ? std::string()
                                      : " (parts of the input thinner than the edge length, such as fins, "
                                        "tubes and pinched voids, keep such angles; the clean stage's "
