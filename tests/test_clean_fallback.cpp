@@ -163,6 +163,19 @@ TEST(RebuildRetry, AnglesOutOfBoundsAtAThinSlabAreRemeshedAgainWithoutIt) {
   EXPECT_EQ(outB.boundaryEdges, 0u);
   EXPECT_NE(b.rebuildRetry.message.find("kept"), std::string::npos);
 
+  // The slab's area is about 4 % of the ball's: with a cap of 1 % on the area change the second
+  // output is not kept, and the mesh is the first run's.
+  Pipeline::Params capped;
+  capped.retryMaxAreaChange = 0.01;
+  MeshD notKept;
+  const auto e = run(capped, notKept);
+  EXPECT_TRUE(e.rebuildRetry.tried);
+  EXPECT_FALSE(e.rebuildRetry.kept);
+  EXPECT_NE(e.rebuildRetry.message.find("retryMaxAreaChange"), std::string::npos) << e.rebuildRetry.message;
+  ASSERT_EQ(notKept.vert.size(), first.vert.size());
+  for (std::size_t i = 0; i < first.vert.size(); ++i) ASSERT_EQ(notKept.vert[i].cP(), first.vert[i].cP());
+  EXPECT_EQ(e.stages.back().after.components, 2u);
+
   Pipeline::Params rebuild;
   rebuild.clean.volumetricRebuild = true;
   const auto c = run(rebuild, rebuilt);

@@ -182,6 +182,10 @@ public:
     /// (PipelineResult::rebuildRetry says by how much). Needs the clean, small and polish stages,
     /// measureEachStage, the volumetric fallback on and OpenVDB; keeps a copy of the input.
     bool rebuildWhenAnglesMiss = true;
+    /// ... kept only when its area is within this share of the first output's: the rebuild seals
+    /// crevices narrower than about L (2-7 % of the area of EDTSurf's coarsest van der Waals and
+    /// solvent-accessible surfaces); more means it removed a part of the surface that matters.
+    double retryMaxAreaChange = 0.1;
     /// A run whose estimated peak memory (MemoryBudget::Estimate: the input's size and the face
     /// count the target edge length implies) exceeds this many MB is refused before any stage,
     /// the mesh untouched; 0 = the memory available when the run starts; < 0 = no check.
@@ -313,12 +317,12 @@ public:
                             detail::FormatNumber(params.polish.maxAngleDeg, 2) + "] deg";
     if (log) log(why + ": the surface is rebuilt from a volume and remeshed again");
     PipelineResult second = DoOnce(input, again, log, cb);
-    const bool keep = second.ok && second.rebuiltVolumetrically && second.verdict.Valid() &&
-                      AngleExcess(second, again) < AngleExcess(first, params);
+    const std::string refusal = RetryRefusal(first, second, params);
+    const bool keep = refusal.empty();
     PipelineResult& kept = keep ? second : first;
     kept.rebuildRetry.tried = true;
     kept.rebuildRetry.kept = keep;
-    kept.rebuildRetry.message = RetryMessage(why, first, second, keep);
+    kept.rebuildRetry.message = RetryMessage(why, first, second, refusal);
     kept.seconds = first.seconds + second.seconds;
     if (keep) {
       vcg::tri::Append<MeshType, MeshType>::MeshCopy(m, input);
@@ -398,26 +402,42 @@ private:
     const QualityReport& out = r.stages.back().after;
     return detail::FormatNumber(out.angleMin, 2) + "-" + detail::FormatNumber(out.angleMax, 2) + " deg";
   }
-  /// The retry in one line: why, and the second run's figures against the first's.
+  /// Signed change from `from` to `to` in percent of |from|, as "+1.23 %".
+  static std::string PercentChange(double from, double to) {
+    const double percent = from != 0 ? 100.0 * (to - from) / std::fabs(from) : 0.0;
+    return (percent >= 0 ? "+" : "") + detail::FormatNumber(percent, 2) + " %";
+  }
+  /// Why the second run's output is not kept ("" = kept): it must be valid, its worst angle nearer
+  /// the bounds, its area within retryMaxAreaChange of the first's.
+  static std::string RetryRefusal(const PipelineResult& first, const PipelineResult& second,
+                                  const Params& params) {
+    if (!second.ok) return "the second run failed (" + second.message + ")";
+    if (!second.rebuiltVolumetrically) return "the rebuild was refused (see the clean stage)";
+    if (!second.verdict.Valid()) return "its output is not valid";
+    if (!(AngleExcess(second, params) < AngleExcess(first, params)))
+      return "its angles are no nearer the bounds";
+    const double a = first.stages.back().after.area, b = second.stages.back().after.area;
+    if (!(std::fabs(b - a) <= params.retryMaxAreaChange * a))
+      return "its area differs from the first output's by " + PercentChange(a, b) + ", more than " +
+             detail::FormatNumber(100 * params.retryMaxAreaChange, 2) + " % (retryMaxAreaChange)";
+    return {};
+  }
+  /// The retry in one line: why, and the second run's figures against the first's. Volumes are
+  /// compared with the input's magnitude (an inward input encloses a negative volume).
   static std::string RetryMessage(const std::string& why, const PipelineResult& first,
-                                  const PipelineResult& second, bool kept) {
+                                  const PipelineResult& second, const std::string& refusal) {
     const std::string head = why + "; remeshed again after rebuilding the surface from a volume: ";
-    if (!second.ok) return head + "not kept, the second run failed (" + second.message + ")";
-    if (!second.rebuiltVolumetrically)
-      return head + "not kept, the rebuild was refused (see the clean stage)";
+    const std::string verdict = refusal.empty() ? "kept" : "not kept (" + refusal + ")";
+    if (!second.ok || second.stages.empty()) return head + verdict;
     const QualityReport &in = first.input, &a = first.stages.back().after, &b = second.stages.back().after;
-    auto change = [](double from, double to) {
-      return (to >= from ? "+" : "") + detail::FormatNumber(from != 0 ? 100.0 * (to - from) / from : 0.0, 2) +
-             " %";
-    };
-    return head + (kept ? "kept" : "not kept") + ", angles " + AngleSpan(second) +
-           (second.verdict.Valid() ? "" : ", not valid") + ", V567 " +
+    const double inVolume = std::fabs(in.volume);
+    return head + verdict + ", angles " + AngleSpan(second) + ", V567 " +
            detail::FormatNumber(b.v567Percent, 2) + " % (first: " + detail::FormatNumber(a.v567Percent, 2) +
-           " %), area " + change(in.area, b.area) + " of the input's (first: " + change(in.area, a.area) +
-           "), volume " + change(in.volume, b.volume) + " (first: " + change(in.volume, a.volume) +
+           " %), area " + PercentChange(in.area, b.area) +
+           " of the input's (first: " + PercentChange(in.area, a.area) + "), volume " +
+           PercentChange(inVolume, b.volume) + " (first: " + PercentChange(inVolume, a.volume) +
            "), components " + std::to_string(b.components) + " (first: " + std::to_string(a.components) +
-           "); parts thinner than about the edge length are "
-           "removed and crevices as narrow sealed";
+           "); parts thinner than about the edge length are removed and crevices as narrow sealed";
   }
 
   /// A quality report being measured (or measured) on its own thread.
