@@ -40,6 +40,18 @@ void TwoBallsWithACavity(MeshD& m) {
   vcg::tri::UpdateTopology<MeshD>::VertexFace(m);
 }
 
+/// A ball of radius 10 (its volume into *ballVolume) and, apart from it, a closed slab 0.2 thick,
+/// as one mesh with its FF and VF adjacency.
+void BallAndSlab(MeshD& m, double* ballVolume = nullptr) {
+  MeshD slab;
+  molremesh::test::Icosphere(m, 4, Point(0, 0, 0), Point(10, 10, 10));
+  if (ballVolume) *ballVolume = vcg::tri::Stat<MeshD>::ComputeMeshVolume(m);
+  molremesh::test::Icosphere(slab, 3, Point(25, 0, 0), Point(3, 3, 0.1));
+  vcg::tri::Append<MeshD, MeshD>::Mesh(m, slab);
+  vcg::tri::UpdateTopology<MeshD>::FaceFace(m);
+  vcg::tri::UpdateTopology<MeshD>::VertexFace(m);
+}
+
 /// The surface was rebuilt, and the rebuild cleaned into a closed, 2-manifold, coherently oriented
 /// mesh with no degenerate face, no self-intersection and no defect left.
 void ExpectAValidRebuild(const CleanStage::Result& r, MeshD& m) { // m: vcglib's check takes it non-const
@@ -92,13 +104,7 @@ TEST(CleanFallback, RequestedRebuildOfAValidSurfaceDropsItsPartsThinnerThanTwoVo
   // A ball of radius 10 and, apart from it, a closed slab 0.2 thick: valid, so only the request
   // rebuilds it, at a voxel of half the mean edge (about 0.3), which leaves no room inside the slab.
   double ballVolume = 0;
-  auto ballAndSlab = [&ballVolume](MeshD& m) {
-    MeshD slab;
-    molremesh::test::Icosphere(m, 4, Point(0, 0, 0), Point(10, 10, 10));
-    ballVolume = vcg::tri::Stat<MeshD>::ComputeMeshVolume(m);
-    molremesh::test::Icosphere(slab, 3, Point(25, 0, 0), Point(3, 3, 0.1));
-    vcg::tri::Append<MeshD, MeshD>::Mesh(m, slab);
-  };
+  auto ballAndSlab = [&ballVolume](MeshD& m) { BallAndSlab(m, &ballVolume); };
   {
     MeshD m;
     ballAndSlab(m);
@@ -128,14 +134,7 @@ TEST(RebuildRetry, AnglesOutOfBoundsAtAThinSlabAreRemeshedAgainWithoutIt) {
   // the slab's rim within [30, 90] degrees, so the pipeline runs again on the rebuilt surface
   // (the run --volumetric-rebuild asks for) and keeps it; the ball alone is remeshed once.
   using Pipeline = molremesh::RemeshPipeline<MeshD>;
-  auto ballAndSlab = [](MeshD& m) {
-    MeshD slab;
-    molremesh::test::Icosphere(m, 4, Point(0, 0, 0), Point(10, 10, 10));
-    molremesh::test::Icosphere(slab, 3, Point(25, 0, 0), Point(3, 3, 0.1));
-    vcg::tri::Append<MeshD, MeshD>::Mesh(m, slab);
-    vcg::tri::UpdateTopology<MeshD>::FaceFace(m);
-    vcg::tri::UpdateTopology<MeshD>::VertexFace(m);
-  };
+  auto ballAndSlab = [](MeshD& m) { BallAndSlab(m); };
   auto run = [&](const Pipeline::Params& params, MeshD& m) {
     ballAndSlab(m);
     const molremesh::PipelineResult r = Pipeline::Do(m, params);

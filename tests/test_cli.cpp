@@ -303,17 +303,28 @@ TEST(Cli, InterpenetratingSpheresAreRebuiltIntoAValidOutput) {
   std::filesystem::remove_all(dir);
 }
 
-// --volumetric-rebuild rebuilds a valid surface too: a slab far thinner than the mean edge, apart
-// from a ball, is gone from the output; without the flag both stay.
-TEST(Cli, VolumetricRebuildRemovesAPartThinnerThanTheEdges) {
-  const auto dir = TempDir("cli_volumetric_rebuild");
+namespace {
+
+/// A ball of radius 5 and, apart from it, a closed slab 0.1 thick, written to dir as an OFF file;
+/// returns its path ("" when it could not be written).
+std::string WriteBallAndSlab(const std::filesystem::path& dir) {
   molremesh::MeshD ball, slab;
   molremesh::test::Icosphere(ball, 3, molremesh::test::Point(0, 0, 0), molremesh::test::Point(5, 5, 5));
   molremesh::test::Icosphere(slab, 2, molremesh::test::Point(12, 0, 0), molremesh::test::Point(2, 2, 0.05));
   molremesh::test::AppendMesh(ball, slab);
-  const std::string input = (dir / "ball_and_slab.off").string(), json = (dir / "out.json").string();
+  const std::string path = (dir / "ball_and_slab.off").string();
   std::string error;
-  ASSERT_TRUE(molremesh::SaveMesh(ball, input, error)) << error;
+  return molremesh::SaveMesh(ball, path, error) ? path : std::string();
+}
+
+} // namespace
+
+// --volumetric-rebuild rebuilds a valid surface too: a slab far thinner than the mean edge, apart
+// from a ball, is gone from the output; without the flag both stay.
+TEST(Cli, VolumetricRebuildRemovesAPartThinnerThanTheEdges) {
+  const auto dir = TempDir("cli_volumetric_rebuild");
+  const std::string input = WriteBallAndSlab(dir), json = (dir / "out.json").string();
+  ASSERT_FALSE(input.empty());
   auto componentsOut = [&](const std::string& flag) {
     const CommandResult r = Cli("remesh --quiet --stages clean " + flag + Quote(input) + " " +
                                 Quote((dir / "out.ply").string()) + " --json " + Quote(json));
@@ -332,13 +343,8 @@ TEST(Cli, VolumetricRebuildRemovesAPartThinnerThanTheEdges) {
 // runs' figures; --no-rebuild-retry keeps the first remesh.
 TEST(Cli, AnglesOutOfBoundsAreRemeshedAgainFromTheRebuiltSurfaceUnlessTurnedOff) {
   const auto dir = TempDir("cli_rebuild_retry");
-  molremesh::MeshD ball, slab;
-  molremesh::test::Icosphere(ball, 3, molremesh::test::Point(0, 0, 0), molremesh::test::Point(5, 5, 5));
-  molremesh::test::Icosphere(slab, 2, molremesh::test::Point(12, 0, 0), molremesh::test::Point(2, 2, 0.05));
-  molremesh::test::AppendMesh(ball, slab);
-  const std::string input = (dir / "ball_and_slab.off").string(), json = (dir / "out.json").string();
-  std::string error;
-  ASSERT_TRUE(molremesh::SaveMesh(ball, input, error)) << error;
+  const std::string input = WriteBallAndSlab(dir), json = (dir / "out.json").string();
+  ASSERT_FALSE(input.empty());
   auto remesh = [&](const std::string& flag) {
     const CommandResult r = Cli("remesh --quiet " + flag + Quote(input) + " " +
                                 Quote((dir / "out.ply").string()) + " --json " + Quote(json));
