@@ -14,8 +14,10 @@
 #include <vcg/complex/algorithms/stat.h>
 #include <vcg/complex/append.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include "remeshing_test_meshes.h"
 
@@ -190,4 +192,43 @@ TEST(RebuildRetry, AnglesOutOfBoundsAtAThinSlabAreRemeshedAgainWithoutIt) {
   const molremesh::PipelineResult d = Pipeline::Do(ball, Pipeline::Params());
   EXPECT_TRUE(d.ok) << d.message;
   EXPECT_FALSE(d.rebuildRetry.tried);
+}
+
+TEST(RebuildRetry, AnOpenDiscWhoseRebuildIsRefusedIsNotRemeshedAgain) {
+  // A 100-gon fanned from one corner encloses no volume: its angles miss their bounds (its rim is
+  // kept), the rebuild is refused, and the second run stops after its clean stage. The output is
+  // the first run's.
+  using Pipeline = molremesh::RemeshPipeline<MeshD>;
+  auto fan = [](MeshD& m) {
+    constexpr int kCorners = 100;
+    auto v = vcg::tri::Allocator<MeshD>::AddVertices(m, kCorners);
+    for (int i = 0; i < kCorners; ++i, ++v)
+      v->P() = Point(std::cos(2 * M_PI * i / kCorners), std::sin(2 * M_PI * i / kCorners), 0);
+    for (int i = 1; i + 1 < kCorners; ++i)
+      vcg::tri::Allocator<MeshD>::AddFace(m, &m.vert[0], &m.vert[i], &m.vert[i + 1]);
+    vcg::tri::UpdateTopology<MeshD>::FaceFace(m);
+    vcg::tri::UpdateTopology<MeshD>::VertexFace(m);
+  };
+  std::vector<std::string> lines;
+  auto log = [&lines](const std::string& line) { lines.push_back(line); };
+  MeshD retried, once;
+  fan(retried);
+  const molremesh::PipelineResult r = Pipeline::Do(retried, Pipeline::Params(), log);
+  ASSERT_TRUE(r.ok) << r.message;
+  const QualityReport& out = r.stages.back().after;
+  ASSERT_TRUE(out.angleMin < 30.0 || out.angleMax > 90.0) << out.angleMin << " " << out.angleMax;
+  EXPECT_TRUE(r.rebuildRetry.tried);
+  EXPECT_FALSE(r.rebuildRetry.kept);
+  EXPECT_NE(r.rebuildRetry.message.find("not remeshed again: the rebuild was refused"), std::string::npos)
+      << r.rebuildRetry.message;
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), std::string("stage clean ...")), 2);
+  EXPECT_EQ(std::count(lines.begin(), lines.end(), std::string("stage cvt ...")), 1);
+
+  Pipeline::Params noRetry;
+  noRetry.rebuildWhenAnglesMiss = false;
+  fan(once);
+  ASSERT_TRUE(Pipeline::Do(once, noRetry).ok);
+  ASSERT_EQ(retried.vert.size(), once.vert.size());
+  ASSERT_EQ(retried.face.size(), once.face.size());
+  for (std::size_t i = 0; i < once.vert.size(); ++i) ASSERT_EQ(retried.vert[i].cP(), once.vert[i].cP());
 }

@@ -316,8 +316,9 @@ public:
                             detail::FormatNumber(params.small.minAngleDeg, 2) + ", " +
                             detail::FormatNumber(params.polish.maxAngleDeg, 2) + "] deg";
     if (log) log(why + ": the surface is rebuilt from a volume and remeshed again");
-    PipelineResult second = DoOnce(input, again, log, cb);
-    const std::string refusal = RetryRefusal(first, second, params);
+    std::string rebuildRefusal; // set when the second run's rebuild is refused: it stops there
+    PipelineResult second = DoOnce(input, again, log, cb, &rebuildRefusal);
+    const std::string refusal = RetryRefusal(first, second, rebuildRefusal, params);
     const bool keep = refusal.empty();
     PipelineResult& kept = keep ? second : first;
     kept.rebuildRetry.tried = true;
@@ -336,8 +337,12 @@ public:
   }
 
 private:
+  /// One run of the stages. With rebuildRefusal, a run whose clean stage does not rebuild the
+  /// surface stops after that stage (not ok) and says why there: its remesh would repeat a run
+  /// without the rebuild.
   static PipelineResult DoOnce(MeshType& m, const Params& params,
-                               const std::function<void(const std::string&)>& log, vcg::CallBackPos* cb) {
+                               const std::function<void(const std::string&)>& log, vcg::CallBackPos* cb,
+                               std::string* rebuildRefusal = nullptr) {
     using Clock = std::chrono::steady_clock;
     const auto start = Clock::now();
     RunState run(m, params, log);
@@ -371,6 +376,8 @@ private:
       run.Say(std::string("stage ") + record.name + " done in " + std::to_string(record.seconds) + " s");
       run.result.stages.push_back(record);
       run.stageReports.push_back(report);
+      if (rebuildRefusal && stage == PipelineStage::Clean && !run.targets.rebuiltVolumetrically)
+        return run.StopAtRefusedRebuild(*rebuildRefusal);
     }
     run.ResolveReports();
     run.LeaveFrame();
@@ -410,9 +417,9 @@ private:
   /// Why the second run's output is not kept ("" = kept): it must be valid, its worst angle nearer
   /// the bounds, its area within retryMaxAreaChange of the first's.
   static std::string RetryRefusal(const PipelineResult& first, const PipelineResult& second,
-                                  const Params& params) {
+                                  const std::string& rebuildRefusal, const Params& params) {
+    if (!rebuildRefusal.empty()) return "the rebuild was refused (" + rebuildRefusal + ")";
     if (!second.ok) return "the second run failed (" + second.message + ")";
-    if (!second.rebuiltVolumetrically) return "the rebuild was refused (see the clean stage)";
     if (!second.verdict.Valid()) return "its output is not valid";
     if (!(AngleExcess(second, params) < AngleExcess(first, params)))
       return "its angles are no nearer the bounds";
@@ -426,6 +433,8 @@ private:
   /// compared with the input's magnitude (an inward input encloses a negative volume).
   static std::string RetryMessage(const std::string& why, const PipelineResult& first,
                                   const PipelineResult& second, const std::string& refusal) {
+    if (!second.ok && !second.rebuiltVolumetrically) // stopped, or failed, before remeshing again
+      return why + "; not remeshed again: " + refusal;
     const std::string head = why + "; remeshed again after rebuilding the surface from a volume: ";
     const std::string verdict = refusal.empty() ? "kept" : "not kept (" + refusal + ")";
     if (!second.ok || second.stages.empty()) return head + verdict;
@@ -534,7 +543,8 @@ private:
     CoordinateFrame<MeshType> frame; // the stages run in it; m leaves it on output
     bool inFrame = false;            // whether m is in the recentred frame now
     bool cvtSkipped = false;         // the input was a remesh at L already (Params::skipCvtOnRemesh)
-    bool remeshKept = false; // ... with RAR's resolution: valence, RAR, polish skipped (skipRarOnRemesh)
+    bool remeshKept = false;    // ... with RAR's resolution: valence, RAR, polish skipped (skipRarOnRemesh)
+    std::string rebuildRefusal; // why the clean stage's volumetric rebuild was refused, when it was
 
     RunState(MeshType& mesh, const Params& p, const std::function<void(const std::string&)>& logger)
         : m(mesh), params(p), log(logger) {}
@@ -616,6 +626,18 @@ private:
         frame.Leave(m);
         inFrame = false;
       }
+      Say(result.message);
+      return result;
+    }
+
+    /// Ends a run whose rebuild (asked for) was refused, after the clean stage: why says why.
+    PipelineResult StopAtRefusedRebuild(std::string& why) {
+      why = rebuildRefusal.empty() ? std::string("the clean stage did not rebuild") : rebuildRefusal;
+      result.ok = false;
+      result.message = "stopped after the clean stage: the volumetric rebuild was refused (" + why + ")";
+      ResolveReports();
+      if (inFrame) frame.Leave(m);
+      inFrame = false;
       Say(result.message);
       return result;
     }
@@ -743,6 +765,7 @@ private:
     run.targets.largestUnfilledHoleEdges = r.largestUnfilledHoleEdges;
     run.targets.maxHoleEdges = cleanParams.maxHoleEdges;
     run.targets.rebuiltVolumetrically = r.fallback.rebuilt;
+    if (r.RebuildRefused()) run.rebuildRefusal = r.fallback.message;
     // A volumetric rebuild's triangles follow its voxels (about half the input's edges): L stays
     // the input's mean edge, so a rebuilt surface is remeshed at the density the input asked for.
     if (r.fallback.rebuilt && !(params.targetEdgeLength > 0) && r.reportBefore.meanEdgeLength > 0)
