@@ -232,3 +232,59 @@ TEST(RebuildRetry, AnOpenDiscWhoseRebuildIsRefusedIsNotRemeshedAgain) {
   ASSERT_EQ(retried.face.size(), once.face.size());
   for (std::size_t i = 0; i < once.vert.size(); ++i) ASSERT_EQ(retried.vert[i].cP(), once.vert[i].cP());
 }
+
+TEST(RebuildRetry, NarrowGapsMakeTheRunOnTheRebuiltSurfaceFirst) {
+  // Two balls of radius 10, 0.1 apart: about 0.6 % of their area faces the other ball within half
+  // the edge length, more than rebuildFirstGapShare. The run on the rebuilt surface (the balls
+  // joined where they nearly touch) is made first and kept; it is the output --volumetric-rebuild
+  // gives. When it is not kept (here: a 0.1 % cap on the area change), the run without the rebuild
+  // follows and the output is the one the pipeline gives without the check.
+  using Pipeline = molremesh::RemeshPipeline<MeshD>;
+  auto twoBalls = [](MeshD& m) {
+    MeshD b;
+    molremesh::test::Icosphere(m, 4, Point(-10.05, 0, 0), Point(10, 10, 10));
+    molremesh::test::Icosphere(b, 4, Point(10.05, 0, 0), Point(10, 10, 10));
+    vcg::tri::Append<MeshD, MeshD>::Mesh(m, b);
+    vcg::tri::UpdateTopology<MeshD>::FaceFace(m);
+    vcg::tri::UpdateTopology<MeshD>::VertexFace(m);
+  };
+  auto run = [&](const Pipeline::Params& params, MeshD& m) {
+    twoBalls(m);
+    const molremesh::PipelineResult r = Pipeline::Do(m, params);
+    EXPECT_TRUE(r.ok) << r.message;
+    EXPECT_TRUE(r.verdict.Valid());
+    return r;
+  };
+  auto sameVertices = [](const MeshD& a, const MeshD& b) {
+    ASSERT_EQ(a.vert.size(), b.vert.size());
+    ASSERT_EQ(a.face.size(), b.face.size());
+    for (std::size_t i = 0; i < a.vert.size(); ++i) ASSERT_EQ(a.vert[i].cP(), b.vert[i].cP());
+  };
+  MeshD checked, rebuilt;
+  const auto a = run(Pipeline::Params(), checked);
+  EXPECT_TRUE(a.rebuildRetry.first);
+  EXPECT_TRUE(a.rebuildRetry.kept) << a.rebuildRetry.message;
+  EXPECT_TRUE(a.rebuiltVolumetrically);
+  EXPECT_NE(a.rebuildRetry.message.find("faces the surface again"), std::string::npos)
+      << a.rebuildRetry.message;
+  const QualityReport& out = a.stages.back().after;
+  EXPECT_EQ(out.components, 1u);
+  EXPECT_GE(out.angleMin, 30.0 - 1e-9);
+  EXPECT_LE(out.angleMax, 90.0 + 1e-9);
+  Pipeline::Params rebuild;
+  rebuild.clean.volumetricRebuild = true;
+  run(rebuild, rebuilt);
+  sameVertices(checked, rebuilt);
+
+  Pipeline::Params capped, cappedUnchecked;
+  capped.retryMaxAreaChange = cappedUnchecked.retryMaxAreaChange = 0.001;
+  cappedUnchecked.rebuildFirstGapShare = 0;
+  MeshD notKept, unchecked;
+  const auto b = run(capped, notKept);
+  EXPECT_TRUE(b.rebuildRetry.first);
+  EXPECT_FALSE(b.rebuildRetry.kept) << b.rebuildRetry.message;
+  const auto c = run(cappedUnchecked, unchecked);
+  EXPECT_FALSE(c.rebuildRetry.first);
+  sameVertices(notKept, unchecked);
+  EXPECT_EQ(b.stages.back().after.components, c.stages.back().after.components);
+}

@@ -56,27 +56,33 @@ public:
     out.clear();
     if (marks_.stamp.size() < m.face.size()) marks_.stamp.resize(m.face.size(), 0);
     ++marks_.current;
-    auto consider = [&](Index f) {
-      if (f >= m.face.size() || marks_.stamp[f] == marks_.current || m.face[f].IsD()) return;
+    Visit(m, box, [&](Index f) {
+      if (marks_.stamp[f] == marks_.current) return;
       marks_.stamp[f] = marks_.current;
+      out.push_back(f);
+    });
+  }
+  /// Calls fn(f) for the live faces whose bounding box touches box, a face once per cell it shares
+  /// with box (no visit marks: safe on many threads at once while nothing is inserted).
+  template <class Fn>
+  void Visit(const MeshType& m, const vcg::Box3d& box, Fn fn) const {
+    auto consider = [&](Index f) {
+      if (f >= m.face.size() || m.face[f].IsD()) return;
       const vcg::Box3d fb = Box(m, FaceCorners(m, m.face[f]));
       for (int a = 0; a < 3; ++a)
         if (fb.max[a] < box.min[a] || box.max[a] < fb.min[a]) return;
-      out.push_back(f);
+      fn(f);
     };
-    for (Index f : big_) consider(f); // faces too large to be gridded
-    if (CellCount(box) > kMaxCells) { // a query that large: scan everything
+    for (Index f : big_) consider(f);
+    if (CellCount(box) > kMaxCells) {
       for (Index f = 0; f < m.face.size(); ++f) consider(f);
       return;
     }
     ForCells(box, [&](std::uint64_t key) {
       auto it = std::lower_bound(sorted_.begin(), sorted_.end(), std::make_pair(key, Index(0)));
       for (; it != sorted_.end() && it->first == key; ++it) consider(it->second);
-      if (!added_.empty()) {
-        const auto a = added_.find(key);
-        if (a != added_.end())
-          for (Index f : a->second) consider(f);
-      }
+      if (const auto a = added_.find(key); a != added_.end())
+        for (Index f : a->second) consider(f);
     });
   }
   /// Bounding box of triangle t, grown by margin on every side.
