@@ -476,9 +476,12 @@ def goals(results):
 
 
 def rebuilt_first(row):
-    """Whether the run on the rebuilt surface was made before any other: the CLI's note then opens with
-    the narrow gaps that made it so."""
-    return "faces the surface again" in row.get("rebuild_retry", {}).get("message", "")
+    """Whether the run on the rebuilt surface was made before any other (the JSON's rebuild_retry.first;
+    a JSON written before that key existed tells it by the note, which then opens with the narrow gaps)."""
+    retry = row.get("rebuild_retry", {})
+    if "first" in retry:
+        return retry["first"]
+    return "faces the surface again" in retry.get("message", "")
 
 
 def retry_goals(rows):

@@ -153,6 +153,7 @@ inline nlohmann::json StageJson(const OutputRequest& request, const PipelineResu
   j["verdict"] = VerdictJson(result.verdict);
   j["rebuild_retry"] = {{"tried", result.rebuildRetry.tried},
                         {"kept", result.rebuildRetry.kept},
+                        {"first", result.rebuildRetry.first},
                         {"message", result.rebuildRetry.message}};
   for (const auto& [key, value] : extra.items()) j[key] = value;
   return j;

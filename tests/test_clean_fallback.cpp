@@ -28,6 +28,25 @@ using molremesh::Point;
 using CleanStage = molremesh::CleanRawMesh<MeshD>;
 using molremesh::QualityReport;
 
+using Pipeline = molremesh::RemeshPipeline<MeshD>;
+
+/// The pipeline on the mesh makeMesh builds into m: it runs and its output is valid.
+template <class MakeMesh>
+molremesh::PipelineResult RunPipeline(const MakeMesh& makeMesh, const Pipeline::Params& params, MeshD& m) {
+  makeMesh(m);
+  const molremesh::PipelineResult r = Pipeline::Do(m, params);
+  EXPECT_TRUE(r.ok) << r.message;
+  EXPECT_TRUE(r.verdict.Valid());
+  return r;
+}
+
+/// The same vertices (bit for bit, in the same order) and as many faces.
+void ExpectSameVertices(const MeshD& a, const MeshD& b) {
+  ASSERT_EQ(a.vert.size(), b.vert.size());
+  ASSERT_EQ(a.face.size(), b.face.size());
+  for (std::size_t i = 0; i < a.vert.size(); ++i) ASSERT_EQ(a.vert[i].cP(), b.vert[i].cP());
+}
+
 /// Two interpenetrating balls of radius 10, 12 apart, the first holding a cavity of radius 2
 /// (faces reversed: normals into the void), as one mesh.
 void TwoBallsWithACavity(MeshD& m) {
@@ -135,14 +154,8 @@ TEST(RebuildRetry, AnglesOutOfBoundsAtAThinSlabAreRemeshedAgainWithoutIt) {
   // The ball and slab above through the whole pipeline: no remesh at the ball's edge length keeps
   // the slab's rim within [30, 90] degrees, so the pipeline runs again on the rebuilt surface
   // (the run --volumetric-rebuild asks for) and keeps it; the ball alone is remeshed once.
-  using Pipeline = molremesh::RemeshPipeline<MeshD>;
-  auto ballAndSlab = [](MeshD& m) { BallAndSlab(m); };
-  auto run = [&](const Pipeline::Params& params, MeshD& m) {
-    ballAndSlab(m);
-    const molremesh::PipelineResult r = Pipeline::Do(m, params);
-    EXPECT_TRUE(r.ok) << r.message;
-    EXPECT_TRUE(r.verdict.Valid());
-    return r;
+  auto run = [](const Pipeline::Params& params, MeshD& m) {
+    return RunPipeline([](MeshD& mesh) { BallAndSlab(mesh); }, params, m);
   };
   Pipeline::Params once;
   once.rebuildWhenAnglesMiss = false;
@@ -173,17 +186,14 @@ TEST(RebuildRetry, AnglesOutOfBoundsAtAThinSlabAreRemeshedAgainWithoutIt) {
   EXPECT_TRUE(e.rebuildRetry.tried);
   EXPECT_FALSE(e.rebuildRetry.kept);
   EXPECT_NE(e.rebuildRetry.message.find("retryMaxAreaChange"), std::string::npos) << e.rebuildRetry.message;
-  ASSERT_EQ(notKept.vert.size(), first.vert.size());
-  for (std::size_t i = 0; i < first.vert.size(); ++i) ASSERT_EQ(notKept.vert[i].cP(), first.vert[i].cP());
+  ExpectSameVertices(notKept, first);
   EXPECT_EQ(e.stages.back().after.components, 2u);
 
   Pipeline::Params rebuild;
   rebuild.clean.volumetricRebuild = true;
   const auto c = run(rebuild, rebuilt);
   EXPECT_FALSE(c.rebuildRetry.tried); // asked for already
-  ASSERT_EQ(retried.vert.size(), rebuilt.vert.size());
-  ASSERT_EQ(retried.face.size(), rebuilt.face.size());
-  for (std::size_t i = 0; i < retried.vert.size(); ++i) ASSERT_EQ(retried.vert[i].cP(), rebuilt.vert[i].cP());
+  ExpectSameVertices(retried, rebuilt);
 
   MeshD ball;
   molremesh::test::Icosphere(ball, 4, Point(0, 0, 0), Point(10, 10, 10));
@@ -198,7 +208,6 @@ TEST(RebuildRetry, AnOpenDiscWhoseRebuildIsRefusedIsNotRemeshedAgain) {
   // A 100-gon fanned from one corner encloses no volume: its angles miss their bounds (its rim is
   // kept), the rebuild is refused, and the second run stops after its clean stage. The output is
   // the first run's.
-  using Pipeline = molremesh::RemeshPipeline<MeshD>;
   auto fan = [](MeshD& m) {
     constexpr int kCorners = 100;
     auto v = vcg::tri::Allocator<MeshD>::AddVertices(m, kCorners);
@@ -228,9 +237,7 @@ TEST(RebuildRetry, AnOpenDiscWhoseRebuildIsRefusedIsNotRemeshedAgain) {
   noRetry.rebuildWhenAnglesMiss = false;
   fan(once);
   ASSERT_TRUE(Pipeline::Do(once, noRetry).ok);
-  ASSERT_EQ(retried.vert.size(), once.vert.size());
-  ASSERT_EQ(retried.face.size(), once.face.size());
-  for (std::size_t i = 0; i < once.vert.size(); ++i) ASSERT_EQ(retried.vert[i].cP(), once.vert[i].cP());
+  ExpectSameVertices(retried, once);
 }
 
 TEST(RebuildRetry, NarrowGapsMakeTheRunOnTheRebuiltSurfaceFirst) {
@@ -239,7 +246,6 @@ TEST(RebuildRetry, NarrowGapsMakeTheRunOnTheRebuiltSurfaceFirst) {
   // joined where they nearly touch) is made first and kept; it is the output --volumetric-rebuild
   // gives. When it is not kept (here: a 0.1 % cap on the area change), the run without the rebuild
   // follows and the output is the one the pipeline gives without the check.
-  using Pipeline = molremesh::RemeshPipeline<MeshD>;
   auto twoBalls = [](MeshD& m) {
     MeshD b;
     molremesh::test::Icosphere(m, 4, Point(-10.05, 0, 0), Point(10, 10, 10));
@@ -248,17 +254,8 @@ TEST(RebuildRetry, NarrowGapsMakeTheRunOnTheRebuiltSurfaceFirst) {
     vcg::tri::UpdateTopology<MeshD>::FaceFace(m);
     vcg::tri::UpdateTopology<MeshD>::VertexFace(m);
   };
-  auto run = [&](const Pipeline::Params& params, MeshD& m) {
-    twoBalls(m);
-    const molremesh::PipelineResult r = Pipeline::Do(m, params);
-    EXPECT_TRUE(r.ok) << r.message;
-    EXPECT_TRUE(r.verdict.Valid());
-    return r;
-  };
-  auto sameVertices = [](const MeshD& a, const MeshD& b) {
-    ASSERT_EQ(a.vert.size(), b.vert.size());
-    ASSERT_EQ(a.face.size(), b.face.size());
-    for (std::size_t i = 0; i < a.vert.size(); ++i) ASSERT_EQ(a.vert[i].cP(), b.vert[i].cP());
+  auto run = [&twoBalls](const Pipeline::Params& params, MeshD& m) {
+    return RunPipeline(twoBalls, params, m);
   };
   MeshD checked, rebuilt;
   const auto a = run(Pipeline::Params(), checked);
@@ -274,7 +271,7 @@ TEST(RebuildRetry, NarrowGapsMakeTheRunOnTheRebuiltSurfaceFirst) {
   Pipeline::Params rebuild;
   rebuild.clean.volumetricRebuild = true;
   run(rebuild, rebuilt);
-  sameVertices(checked, rebuilt);
+  ExpectSameVertices(checked, rebuilt);
 
   Pipeline::Params capped, cappedUnchecked;
   capped.retryMaxAreaChange = cappedUnchecked.retryMaxAreaChange = 0.001;
@@ -285,6 +282,6 @@ TEST(RebuildRetry, NarrowGapsMakeTheRunOnTheRebuiltSurfaceFirst) {
   EXPECT_FALSE(b.rebuildRetry.kept) << b.rebuildRetry.message;
   const auto c = run(cappedUnchecked, unchecked);
   EXPECT_FALSE(c.rebuildRetry.first);
-  sameVertices(notKept, unchecked);
+  ExpectSameVertices(notKept, unchecked);
   EXPECT_EQ(b.stages.back().after.components, c.stages.back().after.components);
 }

@@ -353,6 +353,7 @@ TEST(Cli, AnglesOutOfBoundsAreRemeshedAgainFromTheRebuiltSurfaceUnlessTurnedOff)
   };
   const auto [retried, j] = remesh("");
   EXPECT_TRUE(j["rebuild_retry"]["kept"].get<bool>()) << retried.err;
+  EXPECT_FALSE(j["rebuild_retry"]["first"].get<bool>()); // made after the first run, not before
   EXPECT_EQ(j["output"]["components"].get<int>(), 1);
   EXPECT_GE(j["output"]["angle_min_deg"].get<double>(), 30.0 - 1e-9);
   EXPECT_LE(j["output"]["angle_max_deg"].get<double>(), 90.0 + 1e-9);
