@@ -232,13 +232,18 @@ private:
 
   // The steps, in order (see the file comment)
 
-  static void Run(MeshType& m, const Params& params, vcg::CallBackPos* cb, Result& r) {
+  /// measureInputIntersections = false: reportBefore without the self-intersection search (the
+  /// cleaning of a rebuilt surface, whose own check found none and whose report nobody reads).
+  static void Run(MeshType& m, const Params& params, vcg::CallBackPos* cb, Result& r,
+                  bool measureInputIntersections = true) {
     typename Quality::Params qp;
     qp.computeSelfIntersections = params.measureSelfIntersections;
     qp.degenerateAreaEpsilon = params.degenerateAreaEpsilon;
     qp.threads = params.threads;
     Progress(params, cb, 0, "Measuring the input");
-    r.reportBefore = Quality::Compute(m, qp);
+    typename Quality::Params qpBefore = qp;
+    qpBefore.computeSelfIntersections = qp.computeSelfIntersections && measureInputIntersections;
+    r.reportBefore = Quality::Compute(m, qpBefore);
     // The tolerances are relative to MeshQuality's mean edge length, so that "degenerate" means the
     // same thing here and in the report.
     const double meanEdge = r.reportBefore.meanEdgeLength > 0
@@ -303,11 +308,13 @@ private:
     Progress(params, cb, 95, "Compacting");
     r.removedOrphanedVertices = Finish(m); // step 12
     r.keptComponents = clean::KeptComponents(m);
-    r.reportAfter = Quality::Compute(m, qp);
+    // A requested rebuild replaces this report by the rebuilt surface's: measured only if it fails.
+    if (!params.volumetricRebuild) r.reportAfter = Quality::Compute(m, qp);
     const std::string trigger =
         params.volumetricRebuild ? std::string(kRebuildRequested) : FallbackTrigger(r);
     if ((params.volumetricFallback || params.volumetricRebuild) && !trigger.empty())
       FallBack(m, params, trigger, cb, r); // step 13
+    if (params.volumetricRebuild && !r.fallback.rebuilt) r.reportAfter = Quality::Compute(m, qp);
     Progress(params, cb, 100, "Clean raw mesh done");
   }
 
@@ -348,7 +355,7 @@ private:
     Params again = params;
     again.volumetricFallback = again.volumetricRebuild = false;
     Result second;
-    Run(m, again, nullptr, second);
+    Run(m, again, nullptr, second, /*measureInputIntersections=*/false);
     r.nonOrientableComponents = second.nonOrientableComponents;
     r.unrepairedTangles = second.unrepairedTangles;
     r.unfilledHoles = second.unfilledHoles;
