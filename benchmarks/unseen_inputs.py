@@ -402,8 +402,7 @@ def main():
         sys.exit("unseen_inputs: build the target meshlabserver_sandbox in %s first" % args.build_dir)
     work = args.work or tempfile.mkdtemp(prefix="molremesh_unseen_")
     os.makedirs(work, exist_ok=True)
-    modes = [("full pipeline", "")] + ([("clean, CVT, segment, RAR", "clean,cvt,segment,rar")] if args.stage3 else []) \
-        + ([(MESHLABSERVER, None)] if args.meshlabserver else [])
+    modes = run_modes(args)
     results, tables = [], {mode: [] for mode, _ in modes}
     for entry in INPUTS:
         if args.only and not any(part in entry[0] for part in args.only):
@@ -433,12 +432,17 @@ def main():
     write_results(args, results, tables, modes, work)
 
 
+def run_modes(args):
+    """(table title, --stages value or None for meshlabserver) of each kind of run asked for."""
+    return [("full pipeline", "")] + ([("clean, CVT, segment, RAR", "clean,cvt,segment,rar")] if args.stage3 else []) \
+        + ([(MESHLABSERVER, None)] if args.meshlabserver else [])
+
+
 def table_from(args):
     """Writes the tables of a previous run's JSON (--table-from) again, with this script's text."""
-    modes = [("full pipeline", "")] + ([("clean, CVT, segment, RAR", "clean,cvt,segment,rar")] if args.stage3 else []) \
-        + ([(MESHLABSERVER, None)] if args.meshlabserver else [])
+    modes = run_modes(args)
     tables = {mode: [] for mode, _ in modes}
-    args.keep_from, args.json = None, args.json or args.table_from
+    args.keep_from = None  # every row is the JSON's; its file is written again only to --json
     results = []
     keep_rows(args.table_from, results, tables)
     write_results(args, results, tables, modes, "")
@@ -555,9 +559,10 @@ def write_results(args, results, tables, modes, work):
             text.append("- %s (%s): %s" % (r["name"], r["mode"], w.split(": ", 2)[-1].split(" ", 1)[-1]))
     with open(args.out, "w") as f:
         f.write("\n".join(text) + "\n")
-    os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
-    with open(args.json, "w") as f:
-        json.dump([compact(r, work) for r in results], f, indent=1)
+    if args.json:
+        os.makedirs(os.path.dirname(os.path.abspath(args.json)), exist_ok=True)
+        with open(args.json, "w") as f:
+            json.dump([compact(r, work) for r in results], f, indent=1)
     print("\n".join(text))
 
 
