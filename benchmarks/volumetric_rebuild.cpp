@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
                       {"estimated_mb", r.estimatedMB},
                       {"regions", r.regions},
                       {"inside_regions", r.insideRegions},
+                      {"sealed_slit_voxels", r.sealedSlitVoxels},
                       {"orientation_sign", r.orientationSign},
                       {"bodies", r.bodies},
                       {"cavities", r.cavities}};

@@ -6,6 +6,7 @@
 #include <vcg_ext/core/mesh_types.h>
 #include <vcg_ext/io/mesh_io.h>
 #include <vcg_ext/quality/mesh_quality.h>
+#include <vcg_ext/surface/narrow_gaps.h>
 #include <vcg_ext/volume/atom_fields.h>
 #include <vcg_ext/volume/level_set_grid.h>
 #include <vcg_ext/volume/volumetric_rebuild.h>
@@ -230,6 +231,45 @@ TEST(VolumetricRebuild, SoupWithASmallCrackIsClosed) {
   ExpectValidRebuild(r, m);
   EXPECT_EQ(r.bodies, 1u);
   EXPECT_NEAR(r.volumeOut, volume, 0.01 * volume);
+}
+
+/// Faces that see the surface again within two voxels in front of them: the sheets of a slit of
+/// the outside that the remeshing at the target edge length (about two voxels) cannot keep apart.
+std::size_t SlitFaces(const MeshD& m, double voxelSize) {
+  NarrowGaps<MeshD>::Params p;
+  p.reach = 2.0 * voxelSize;
+  return NarrowGaps<MeshD>::Measure(m, p).narrowFaces;
+}
+
+/// A row of four balls of radius 1.5, each 0.02 from the next: slits a fifth of a voxel of 0.1
+/// wide at their gaps, widening around them (van der Waals surfaces of touching atoms).
+void BallsAlmostTouching(MeshD& m) {
+  const double r = 1.5, d = 2 * r + 0.02;
+  for (int i = 0; i < 4; ++i) {
+    MeshD ball;
+    Icosphere(ball, 4, Point(i * d, 0, 0), Point(r, r, r));
+    AppendMesh(m, ball);
+  }
+}
+
+TEST(VolumetricRebuild, SlitsThinnerThanAVoxelAreSealed) {
+  Rebuild::Params params;
+  params.voxelSize = 0.1;
+  MeshD sealed, kept;
+  BallsAlmostTouching(sealed);
+  BallsAlmostTouching(kept);
+  const Rebuild::Result r = Rebuild::Do(sealed, params);
+  ExpectValidRebuild(r, sealed);
+  params.sealSlits = false;
+  const Rebuild::Result k = Rebuild::Do(kept, params);
+  ExpectValidRebuild(k, kept);
+
+  EXPECT_GT(r.sealedSlitVoxels, 0u);
+  EXPECT_EQ(k.sealedSlitVoxels, 0u);
+  const std::size_t slitsSealed = SlitFaces(sealed, r.voxelSize), slitsKept = SlitFaces(kept, k.voxelSize);
+  EXPECT_EQ(slitsSealed, 0u);
+  EXPECT_GT(slitsKept, 0u);
+  EXPECT_GE(r.volumeOut, k.volumeOut); // sealing only adds voxels to the inside
 }
 
 TEST(VolumetricRebuild, RefusedRunsLeaveTheMeshUntouched) {

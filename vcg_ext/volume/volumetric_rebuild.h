@@ -13,6 +13,8 @@
 //         its deepest voxel; the input's orientation sign s = sign(sum of w x region size)
 //   region inside  <=>  s w > insideWinding  (a cavity has w ~ 0, overlapping bodies w >= 1)
 //   the shell near the triangles joins the regions by a watershed of udf (they meet on the input)
+//   a shell voxel of an outside region whose two neighbours along some axis are inside becomes
+//         inside (Params::sealSlits): a slit of the outside thinner than a voxel is closed
 //   phi = -udf inside, +udf outside; mesh = OpenVDB's mesher of phi = 0
 //
 // OpenVDB's own mesh-to-level-set conversion decides the sign by flood fill from outside, which
@@ -54,8 +56,14 @@ public:
     double voxelFraction = 0.5;    ///< of the input's mean edge length, when voxelSize is 0
     double crackWidthVoxels = 2.0; ///< openings narrower than this many voxels are sealed
     double insideWinding = 0.5;    ///< a region is inside when its winding number exceeds it
-    double memoryLimitMB = 0;      ///< 0 = the memory available now; < 0 = no check
-    int threads = 0;               ///< for the winding numbers and the checks; 0 = all cores
+    /// Close slits of the outside thinner than a voxel between two inside voxels. Such a slit
+    /// (marching-cubes Gaussian surfaces of complexes have them, 0.1 A wide) keeps two sheets
+    /// facing each other closer than any remesh at the target edge length can keep apart within
+    /// the angle bounds, and no probe fits in it. Where a sealed slit was the only way into a
+    /// pocket, the pocket stays outside the volume: a cavity.
+    bool sealSlits = true;
+    double memoryLimitMB = 0; ///< 0 = the memory available now; < 0 = no check
+    int threads = 0;          ///< for the winding numbers and the checks; 0 = all cores
   };
 
   struct Result {
@@ -69,9 +77,10 @@ public:
     double estimatedMB = 0;  ///< the memory estimate the limit was checked against
     std::size_t regions = 0; ///< free-space regions, inside ones
     std::size_t insideRegions = 0;
-    int orientationSign = 0;  ///< +1: the input's sheets face outward; -1: inward
-    std::size_t bodies = 0;   ///< closed components of the output bounding a body
-    std::size_t cavities = 0; ///< and bounding a cavity (normals into the void)
+    std::size_t sealedSlitVoxels = 0; ///< outside shell voxels made inside (Params::sealSlits)
+    int orientationSign = 0;          ///< +1: the input's sheets face outward; -1: inward
+    std::size_t bodies = 0;           ///< closed components of the output bounding a body
+    std::size_t cavities = 0;         ///< and bounding a cavity (normals into the void)
   };
 
   /// Replaces m by the rebuilt surface (see the top of the file); m's deleted elements are skipped.
@@ -89,7 +98,8 @@ private:
   static std::vector<char> InsideRegions(const VoxelRegions& regions, const Input& input, double h,
                                          const Params& params, Result& result);
   static openvdb::FloatGrid::Ptr SignedGrid(const openvdb::FloatGrid& udf, const VoxelRegions& regions,
-                                            const std::vector<char>& inside, double h);
+                                            const std::vector<char>& inside, double h, bool sealSlits,
+                                            Result& result);
   static std::string Validate(const MeshType& out, const Params& params, Result& result);
 };
 
@@ -139,7 +149,7 @@ typename VolumetricRebuild<MeshType>::Result VolumetricRebuild<MeshType>::Do(Mes
   if (result.insideRegions == 0)
     return result.message = "the surface encloses no volume at voxel size " + std::to_string(h), result;
   FloodShell(*udf, regions);
-  const openvdb::FloatGrid::Ptr phi = SignedGrid(*udf, regions, inside, h);
+  const openvdb::FloatGrid::Ptr phi = SignedGrid(*udf, regions, inside, h, params.sealSlits, result);
   regions = VoxelRegions();
   MeshType out;
   LevelSetToMesh(*phi, out);
@@ -223,16 +233,30 @@ std::vector<char> VolumetricRebuild<MeshType>::InsideRegions(const VoxelRegions&
 
 /// -udf on inside voxels, +udf outside (never exactly 0: the mesher would put a vertex on a grid
 /// point, shared by several cells), then OpenVDB's signed flood fill gives the voxels beyond the
-/// band the sign of the band around them.
+/// band the sign of the band around them. A sealed slit voxel is decided on the labels alone, so
+/// the result does not depend on the order of the voxels.
 template <class MeshType>
 openvdb::FloatGrid::Ptr VolumetricRebuild<MeshType>::SignedGrid(const openvdb::FloatGrid& udf,
                                                                 const VoxelRegions& regions,
-                                                                const std::vector<char>& inside, double h) {
+                                                                const std::vector<char>& inside, double h,
+                                                                bool sealSlits, Result& result) {
+  const auto isInside = [&](const openvdb::Coord& c) {
+    return regions.box.Contains(c) && inside[std::size_t(regions.label[regions.box.IndexOf(c)])] != 0;
+  };
+  const auto betweenInside = [&](const openvdb::Coord& c) {
+    for (int axis = 0; axis < 3; ++axis) {
+      openvdb::Coord below = c, above = c;
+      below[axis] -= 1, above[axis] += 1;
+      if (isInside(below) && isInside(above)) return true;
+    }
+    return false;
+  };
   const float floor = float(1e-3 * h);
   openvdb::FloatGrid::Ptr phi = udf.deepCopy();
   for (auto it = phi->beginValueOn(); it; ++it) {
     const float d = std::max(*it, floor);
-    const bool in = inside[std::size_t(regions.label[regions.box.IndexOf(it.getCoord())])] != 0;
+    bool in = isInside(it.getCoord());
+    if (!in && sealSlits && betweenInside(it.getCoord())) in = true, ++result.sealedSlitVoxels;
     it.setValue(in ? -d : d);
   }
   phi->setGridClass(openvdb::GRID_LEVEL_SET);
