@@ -247,7 +247,7 @@ void BallsAlmostTouching(MeshD& m) {
   const double r = 1.5, d = 2 * r + 0.02;
   for (int i = 0; i < 4; ++i) {
     MeshD ball;
-    Icosphere(ball, 4, Point(i * d, 0, 0), Point(r, r, r));
+    Ball(ball, r, Point(i * d, 0, 0));
     AppendMesh(m, ball);
   }
 }

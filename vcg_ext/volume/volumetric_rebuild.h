@@ -98,7 +98,7 @@ private:
   static std::vector<char> InsideRegions(const VoxelRegions& regions, const Input& input, double h,
                                          const Params& params, Result& result);
   static openvdb::FloatGrid::Ptr SignedGrid(const openvdb::FloatGrid& udf, const VoxelRegions& regions,
-                                            const std::vector<char>& inside, double h, bool sealSlits,
+                                            const std::vector<char>& inside, double h, const Params& params,
                                             Result& result);
   static std::string Validate(const MeshType& out, const Params& params, Result& result);
 };
@@ -149,7 +149,7 @@ typename VolumetricRebuild<MeshType>::Result VolumetricRebuild<MeshType>::Do(Mes
   if (result.insideRegions == 0)
     return result.message = "the surface encloses no volume at voxel size " + std::to_string(h), result;
   FloodShell(*udf, regions);
-  const openvdb::FloatGrid::Ptr phi = SignedGrid(*udf, regions, inside, h, params.sealSlits, result);
+  const openvdb::FloatGrid::Ptr phi = SignedGrid(*udf, regions, inside, h, params, result);
   regions = VoxelRegions();
   MeshType out;
   LevelSetToMesh(*phi, out);
@@ -239,7 +239,7 @@ template <class MeshType>
 openvdb::FloatGrid::Ptr VolumetricRebuild<MeshType>::SignedGrid(const openvdb::FloatGrid& udf,
                                                                 const VoxelRegions& regions,
                                                                 const std::vector<char>& inside, double h,
-                                                                bool sealSlits, Result& result) {
+                                                                const Params& params, Result& result) {
   const auto isInside = [&](const openvdb::Coord& c) {
     return regions.box.Contains(c) && inside[std::size_t(regions.label[regions.box.IndexOf(c)])] != 0;
   };
@@ -256,7 +256,7 @@ openvdb::FloatGrid::Ptr VolumetricRebuild<MeshType>::SignedGrid(const openvdb::F
   for (auto it = phi->beginValueOn(); it; ++it) {
     const float d = std::max(*it, floor);
     bool in = isInside(it.getCoord());
-    if (!in && sealSlits && betweenInside(it.getCoord())) in = true, ++result.sealedSlitVoxels;
+    if (!in && params.sealSlits && betweenInside(it.getCoord())) in = true, ++result.sealedSlitVoxels;
     it.setValue(in ? -d : d);
   }
   phi->setGridClass(openvdb::GRID_LEVEL_SET);
