@@ -206,6 +206,33 @@ TEST(MolecularSurface, SesKeepsTheCavityOfASasPocketSmallerThanAVoxel) {
   EXPECT_LT(cavity, 4 * kPi / 3 * std::pow(probe + corner, 3));
 }
 
+// The atoms of 4JSV within 7 Å of one of its cavities, whose SAS pocket is below the 0.4 Å grid's
+// resolution (a 12-face speck of the extracted SAS, with the field's band around it). In exact terms
+// the opening only enlarges cavities; on the grid its surface lies within a quarter voxel of the
+// exact SES, so the cavity keeps at least the volume of a ball a quarter voxel narrower than the
+// unopened one's (measured: 91 %; 79 % with distances swept over the field's active voxels alone,
+// not grown).
+TEST(MolecularSurface, OpeningKeepsTheCavityOfASasPocketBelowTheGridsResolution) {
+  const StructureReadResult atoms = ReadStructureFile(molremesh::test::Fixture("4jsv_cavity_atoms.pdb"));
+  ASSERT_TRUE(atoms.ok) << atoms.message;
+  auto largestCavity = [&](double minFeatureRadius) {
+    Surface::Params p = ParamsOf(Kind::Ses);
+    p.minFeatureRadius = minFeatureRadius;
+    MeshD m;
+    const auto r = Surface::Build(atoms.atoms, m, p);
+    EXPECT_TRUE(r.ok) << r.message;
+    EXPECT_GE(r.cavities, 1u);
+    ExpectValidClosedSurface(m);
+    std::vector<std::uint32_t> faceComponent;
+    const std::vector<double> volumes = surface_detail::ComponentVolumes(m, faceComponent);
+    return -*std::min_element(volumes.begin(), volumes.end());
+  };
+  const Surface::Params defaults;
+  const double unopened = largestCavity(0.0), opened = largestCavity(defaults.minFeatureRadius);
+  const double radius = std::cbrt(3 * unopened / (4 * kPi)), narrower = radius - 0.25 * defaults.gridSpacing;
+  EXPECT_GT(opened, unopened * std::pow(narrower / radius, 3));
+}
+
 // Without vertices on the crease where the two spheres meet, its chords cost area linearly in the
 // grid spacing; with them, what is left is about the convex patches' shortfall (a 1.8 Å sphere's
 // at 0.4 Å: -0.94 %). Measured at 0.4 Å: van der Waals -1.57 % without, -0.97 % with; SAS -0.39 %
