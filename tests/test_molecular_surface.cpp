@@ -45,6 +45,13 @@ Surface::Params ParamsOf(Kind kind) {
   return p;
 }
 
+/// The volume of the mesh's largest cavity (its most negative component).
+double LargestCavityVolume(const MeshD& m) {
+  std::vector<std::uint32_t> faceComponent;
+  const std::vector<double> volumes = surface_detail::ComponentVolumes(m, faceComponent);
+  return -*std::min_element(volumes.begin(), volumes.end());
+}
+
 struct Union2 {
   double area, volume;
 };
@@ -197,9 +204,7 @@ TEST(MolecularSurface, SesKeepsTheCavityOfASasPocketSmallerThanAVoxel) {
   // The cavity: the probe balls centred in the pocket, which holds the ball of 0.05 Å around the
   // centre and lies in the ball through its corners (three spheres meet there, on the axis of a
   // face: the face's circumradius edge/sqrt(3) from its atoms, above its plane by `height`).
-  std::vector<std::uint32_t> faceComponent;
-  const std::vector<double> volumes = surface_detail::ComponentVolumes(m, faceComponent);
-  const double cavity = -*std::min_element(volumes.begin(), volumes.end());
+  const double cavity = LargestCavityVolume(m);
   const double sasRadius = radius + probe, inradius = edge * std::sqrt(6.0) / 12;
   const double height = std::sqrt(sasRadius * sasRadius - edge * edge / 3), corner = inradius - height;
   EXPECT_GT(cavity, 4 * kPi / 3 * std::pow(probe + 0.05, 3) * 0.97);
@@ -223,9 +228,7 @@ TEST(MolecularSurface, OpeningKeepsTheCavityOfASasPocketBelowTheGridsResolution)
     EXPECT_TRUE(r.ok) << r.message;
     EXPECT_GE(r.cavities, 1u);
     ExpectValidClosedSurface(m);
-    std::vector<std::uint32_t> faceComponent;
-    const std::vector<double> volumes = surface_detail::ComponentVolumes(m, faceComponent);
-    return -*std::min_element(volumes.begin(), volumes.end());
+    return LargestCavityVolume(m);
   };
   const Surface::Params defaults;
   const double unopened = largestCavity(0.0), opened = largestCavity(defaults.minFeatureRadius);

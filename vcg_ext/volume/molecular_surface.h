@@ -340,13 +340,12 @@ constexpr float kSideBandVoxels = 2.0f;
 /// MakeExactAroundMissedVertices adds deep inside have no band at all; without the growth the distances stop
 /// at the band's edge (4JSV: seven such cavities came out 2-16 % smaller). By the opening's definition a wall
 /// thinner than 2 rho between a cavity and the outside or another cavity opens; one within about a voxel of
-/// 2 rho opens or stays depending on where the voxels fall.
-inline openvdb::FloatGrid::Ptr OpenedRegion(const openvdb::FloatGrid& field, double level, double rho) {
-  openvdb::FloatGrid::Ptr grown = field.deepCopy();
-  openvdb::tools::dilateActiveValues(grown->tree(), int(kSideBandVoxels), openvdb::tools::NN_FACE_EDGE,
+/// 2 rho opens or stays depending on where the voxels fall. The growth is done on `field` itself
+/// (its values stay; only more of them become active): the sweep copies it anyway.
+inline openvdb::FloatGrid::Ptr OpenedRegion(openvdb::FloatGrid& field, double level, double rho) {
+  openvdb::tools::dilateActiveValues(field.tree(), int(kSideBandVoxels), openvdb::tools::NN_FACE_EDGE,
                                      openvdb::tools::EXPAND_TILES);
-  openvdb::FloatGrid::Ptr region = openvdb::tools::sdfToSdf(*grown, float(level));
-  grown.reset();
+  openvdb::FloatGrid::Ptr region = openvdb::tools::sdfToSdf(field, float(level));
   openvdb::FloatGrid::Ptr opened = openvdb::tools::sdfToSdf(*region, float(-rho));
   region.reset();
   const float shift = float(rho);
@@ -525,6 +524,7 @@ private:
     if (p.minFeatureRadius > 0) {
       Step(p, SesShare::kOpening, "opening necks and cusps thinner than the grid");
       FloatGrid::Ptr opened = surface_detail::OpenedRegion(*exact, -p.probeRadius, p.minFeatureRadius);
+      exact.reset(); // read no more: the projection below uses the opening and sasDepth
       Step(p, SesShare::kExtraction, "extracting the isosurface");
       LevelSetToMesh(*opened, m, 0.0);
       Step(p, SesShare::kProjection, "projecting onto the solvent-excluded surface");
